@@ -1,0 +1,50 @@
+#include "service/service.hpp"
+
+#include <csignal>
+
+#include "config/config_loader.hpp"
+#include "core/log.hpp"
+
+namespace df::service {
+namespace {
+std::atomic<bool> g_stop{false};  // set from signal handlers: the one process-wide flag
+extern "C" void on_stop_signal(int) { g_stop.store(true); }
+}  // namespace
+
+const std::atomic<bool>& install_stop_handlers() {
+    std::signal(SIGINT, on_stop_signal);
+    std::signal(SIGTERM, on_stop_signal);
+    std::signal(SIGPIPE, SIG_IGN);
+    return g_stop;
+}
+
+bool stop_requested() { return g_stop.load(); }
+
+void add_config_flags(CLI::App& app, ConfigFlags* flags) {
+    app.add_option("-c,--config", flags->config_path, "configuration file (protobuf text format)");
+    app.add_option("--set", flags->overrides,
+                   "override a configuration field, text format, e.g. --set 'playback: LOCKSTEP'")
+        ->take_all();
+}
+
+bool load_config(const ConfigFlags& flags, google::protobuf::Message* config) {
+    const Status s = config::load(flags.config_path, flags.overrides, config);
+    if (!s) {
+        log::error(s.message());
+        return false;
+    }
+    log::info("configuration (", config->GetTypeName(), "):\n", config::describe(*config));
+    return true;
+}
+
+Result<dds::Participant> make_participant(const config::DdsConfig& dds) {
+    auto transport = dds::parse_transport(dds.transport());
+    if (!transport) return transport.status();
+    dds::ParticipantConfig pc;
+    pc.domain_id = dds.domain_id();
+    pc.transport = *transport;
+    pc.extra_xml = dds.extra_xml();
+    return dds::Participant::create(pc);
+}
+
+}  // namespace df::service

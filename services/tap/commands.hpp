@@ -1,0 +1,42 @@
+#pragma once
+/// The tap subcommands. Each returns a process exit code (0 ok, 1 runtime error, 2 bad usage).
+#include <string>
+#include <vector>
+
+#include "dds/participant.hpp"
+#include "subscription.hpp"
+
+namespace df::tap {
+
+struct CommonOptions {
+    double wait_s = 5;  ///< how long to wait for a topic's writer to be discovered
+    RunLimits limits;
+    int window = 100;   ///< samples in the statistics window (hz, bw, delay)
+};
+
+int cmd_list(const dds::Participant& p, double wait_s);
+int cmd_echo(const dds::Participant& p, const std::string& topic, const CommonOptions& o,
+             int max_items);
+int cmd_hz(const dds::Participant& p, const std::string& topic, const CommonOptions& o);
+int cmd_bw(const dds::Participant& p, const std::string& topic, const CommonOptions& o);
+int cmd_delay(const dds::Participant& p, const std::string& topic, const CommonOptions& o);
+
+struct RecordOptions {
+    std::string output;
+    std::vector<std::string> topics;  ///< empty: every DetectFusion topic discovered
+    std::string ack_stage;   ///< answer each frame on <ns>/stage_status as this stage (lockstep)
+    std::string ns = "df";
+    bool zstd = false;
+};
+int cmd_record(const dds::Participant& p, const RecordOptions& r, const CommonOptions& o);
+
+struct PlayOptions {
+    std::string input;
+    double rate = 1.0;         ///< 0 = as fast as possible
+    std::vector<std::string> remaps;  ///< "from=to" topic prefix rewrites
+    double start_wait_s = 2;   ///< wait for readers before playing
+    uint32_t wait_readers = 0; ///< readers each topic must have before playing
+};
+int cmd_play(const dds::Participant& p, const PlayOptions& play);
+
+}  // namespace df::tap

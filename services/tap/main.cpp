@@ -1,0 +1,98 @@
+// df_tap: look into the pipeline's topics (the `ros2 topic` of DetectFusion).
+//   df_tap list | echo T | hz T | bw T | delay T | record -o F [T...] | play F
+#include <cstdio>
+
+#include <CLI/CLI.hpp>
+
+#include "commands.hpp"
+#include "core/log.hpp"
+#include "discovery.hpp"
+#include "service/service.hpp"
+
+namespace df::tap {
+
+int cmd_list(const dds::Participant& p, double wait_s) {
+    const auto topics = discover(p, wait_s);
+    if (topics.empty()) {
+        std::printf("no topics found within %.1f s\n", wait_s);
+        return 0;
+    }
+    for (const auto& [name, t] : topics) {
+        std::printf("%s\n  type: %s\n  writers: %zu\n", name.c_str(), t.type.c_str(), t.writers.size());
+        for (const auto& w : t.writers) std::printf("    - %s on %s\n", w.process.c_str(), w.host.c_str());
+        std::printf("  readers: %zu\n", t.readers.size());
+        for (const auto& r : t.readers) std::printf("    - %s on %s\n", r.process.c_str(), r.host.c_str());
+    }
+    return 0;
+}
+
+}  // namespace df::tap
+
+int main(int argc, char** argv) {
+    df::log::set_component("tap");
+    CLI::App app{"df_tap: list, echo, hz, bw, delay, record and play DetectFusion topics"};
+    app.require_subcommand(1);
+    df::config::DdsConfig dds;
+    std::string transport = "auto";
+    uint32_t domain = 0;
+    app.add_option("--domain", domain, "DDS domain id")->default_val(0);
+    app.add_option("--transport", transport, "auto, shm or udp")->default_val("auto");
+    df::tap::CommonOptions common;
+    double wait_s = 5;
+    app.add_option("--wait", wait_s, "seconds to wait for discovery")->default_val(5);
+
+    auto add_limits = [&common](CLI::App* sub) {
+        sub->add_option("--duration", common.limits.duration_s, "stop after this many seconds");
+        sub->add_option("-n,--count", common.limits.count, "stop after this many messages");
+        sub->add_option("--idle", common.limits.idle_s,
+                        "stop when nothing arrived for this many seconds (after the first message)");
+    };
+    std::string topic;
+    auto* list = app.add_subcommand("list", "topics with types, writers, readers and hosts");
+    auto* echo = app.add_subcommand("echo", "print messages (arrays truncated)");
+    int max_items = 8;
+    echo->add_option("--items", max_items, "array elements to print")->default_val(8);
+    auto* hz = app.add_subcommand("hz", "message rate");
+    auto* bw = app.add_subcommand("bw", "bandwidth");
+    auto* delay = app.add_subcommand("delay", "receive time minus capture time");
+    for (auto* sub : {echo, hz, bw, delay}) {
+        sub->add_option("topic", topic, "topic name, e.g. df/frames")->required();
+        sub->add_option("--window", common.window, "samples in the statistics window")->default_val(100);
+        add_limits(sub);
+    }
+    df::tap::RecordOptions rec;
+    auto* record = app.add_subcommand("record", "record topics to an MCAP file");
+    record->add_option("-o,--output", rec.output, "MCAP file to write")->required();
+    record->add_option("topics", rec.topics, "topics (default: all DetectFusion topics)");
+    record->add_option("--ack", rec.ack_stage, "answer each frame as this stage (for lockstep capture)");
+    record->add_option("--ns", rec.ns, "namespace of the stage_status topic for --ack")->default_val("df");
+    record->add_flag("--zstd", rec.zstd, "compress chunks with zstd");
+    add_limits(record);
+    df::tap::PlayOptions play;
+    auto* playc = app.add_subcommand("play", "publish an MCAP recording");
+    playc->add_option("input", play.input, "MCAP file")->required()->check(CLI::ExistingFile);
+    playc->add_option("-r,--rate", play.rate, "speed factor (0 = as fast as possible)")->default_val(1.0);
+    playc->add_option("--remap", play.remaps, "rewrite topic prefixes, FROM=TO (repeatable)");
+    playc->add_option("--wait-readers", play.wait_readers, "readers each topic must have before playing");
+    playc->add_option("--start-wait", play.start_wait_s, "seconds to wait for those readers")->default_val(5);
+    CLI11_PARSE(app, argc, argv);
+
+    df::service::install_stop_handlers();
+    common.wait_s = wait_s;
+    dds.set_domain_id(domain);
+    dds.set_transport(transport);
+    auto participant = df::service::make_participant(dds);
+    if (!participant) {
+        df::log::error(participant.status().message());
+        return 1;
+    }
+    const auto& p = *participant;
+    if (*list) return df::tap::cmd_list(p, wait_s);
+    if (*echo) return df::tap::cmd_echo(p, topic, common, max_items);
+    if (*hz) return df::tap::cmd_hz(p, topic, common);
+    if (*bw) return df::tap::cmd_bw(p, topic, common);
+    if (*delay) return df::tap::cmd_delay(p, topic, common);
+    if (*record) return df::tap::cmd_record(p, rec, common);
+    if (*playc) return df::tap::cmd_play(p, play);
+    return 2;
+}
