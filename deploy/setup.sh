@@ -11,7 +11,7 @@ APT_PACKAGES=(
   supervisor
   libgtest-dev libgmock-dev libbenchmark-dev
   nlohmann-json3-dev libcli11-dev libzstd-dev liblz4-dev
-  python3 python3-numpy python3-matplotlib
+  python3 python3-protobuf python3-numpy python3-matplotlib
   darknet
 )
 

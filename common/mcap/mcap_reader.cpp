@@ -14,8 +14,8 @@
 
 namespace df::mcap {
 
-using detail::op_name;
 using detail::Op;
+using detail::op_name;
 
 namespace {
 
@@ -66,21 +66,24 @@ Result<std::unique_ptr<Reader>> Reader::open(const std::string& path) {
     if (::fstat(fd, &st) != 0) {
         const int err = errno;
         ::close(fd);
-        return error(StatusCode::kIoError, "cannot stat MCAP file '" + path + "': " + std::strerror(err));
+        return error(StatusCode::kIoError,
+                     "cannot stat MCAP file '" + path + "': " + std::strerror(err));
     }
     std::unique_ptr<Reader> reader(new Reader(path, fd, uint64_t(st.st_size)));
     DF_RETURN_IF_ERROR(reader->scan());
     return reader;
 }
 
-Reader::Reader(std::string path, int fd, uint64_t size) : path_(std::move(path)), fd_(fd), size_(size) {}
+Reader::Reader(std::string path, int fd, uint64_t size)
+    : path_(std::move(path)), fd_(fd), size_(size) {}
 
 Reader::~Reader() {
     if (fd_ >= 0) ::close(fd_);
 }
 
 Status Reader::fail(uint64_t offset, const std::string& what) const {
-    return error(StatusCode::kIoError, "MCAP file '" + path_ + "', byte " + str(offset) + ": " + what);
+    return error(StatusCode::kIoError,
+                 "MCAP file '" + path_ + "', byte " + str(offset) + ": " + what);
 }
 
 Status Reader::read_at(uint64_t offset, size_t size, uint8_t* dst) const {
@@ -89,15 +92,17 @@ Status Reader::read_at(uint64_t offset, size_t size, uint8_t* dst) const {
         const ssize_t n = ::pread(fd_, dst + done, size - done, off_t(offset + done));
         if (n < 0 && errno == EINTR) continue;
         if (n <= 0) {
-            return fail(offset + done, n == 0 ? std::string("unexpected end of file")
-                                              : std::string("read failed: ") + std::strerror(errno));
+            return fail(offset + done, n == 0
+                                           ? std::string("unexpected end of file")
+                                           : std::string("read failed: ") + std::strerror(errno));
         }
         done += size_t(n);
     }
     return Status::ok();
 }
 
-Status Reader::read_record_content(uint64_t offset, uint64_t length, std::vector<uint8_t>& out) const {
+Status Reader::read_record_content(uint64_t offset, uint64_t length,
+                                   std::vector<uint8_t>& out) const {
     out.resize(length);
     return read_at(offset, length, out.data());
 }
@@ -124,11 +129,11 @@ Status Reader::scan() {
     }
 
     bool in_data_section = true;
-    std::vector<uint8_t> content;
     for (uint64_t pos = sizeof(magic);;) {
         if (pos == size_) {
-            return fail(pos, "file ends without a Footer record (truncated, or a recording that "
-                             "was not closed)");
+            return fail(pos,
+                        "file ends without a Footer record (truncated, or a recording that "
+                        "was not closed)");
         }
         if (size_ - pos < detail::kRecordPrefixBytes) {
             return fail(pos, "truncated record: 9 bytes of opcode and length needed, " +
@@ -149,89 +154,113 @@ Status Reader::scan() {
             return fail(pos, first ? "expected a Header record, found " + op_name(op)
                                    : std::string("a second Header record"));
         }
-        const bool small = op == uint8_t(Op::kHeader) || op == uint8_t(Op::kSchema) ||
-                           op == uint8_t(Op::kChannel) || op == uint8_t(Op::kStatistics);
-        if (small) {
-            if (length > kMaxSmallRecordBytes) {
-                return fail(pos, op_name(op) + " record of " + str(length) + " bytes is implausible");
-            }
-            DF_RETURN_IF_ERROR(read_record_content(at_content, length, content));
+        if (op == uint8_t(Op::kFooter)) {
+            DF_RETURN_IF_ERROR(check_footer(pos, length));
+            break;
         }
-        const bool in_summary = !in_data_section;
-
-        switch (Op(op)) {
-            case Op::kHeader: {
-                detail::ByteReader r(content.data(), content.size());
-                if (!r.str(profile_) || !r.str(library_)) return fail(pos, "malformed Header record");
-                break;
-            }
-            case Op::kFooter:
-                return check_footer(pos, length);
-            case Op::kSchema: {
-                Schema s;
-                if (!detail::decode_schema(content.data(), content.size(), s)) {
-                    return fail(pos, "malformed Schema record");
-                }
-                if (!add_schema(s)) return fail(pos, "Schema id " + str(s.id) + " redefined differently");
-                break;
-            }
-            case Op::kChannel: {
-                Channel c;
-                if (!detail::decode_channel(content.data(), content.size(), c)) {
-                    return fail(pos, "malformed Channel record");
-                }
-                if (!add_channel(c)) return fail(pos, "Channel id " + str(c.id) + " redefined differently");
-                summary_has_channels_ = summary_has_channels_ || in_summary;
-                break;
-            }
-            case Op::kMessage: {
-                detail::MessageFields m;
-                uint8_t fields[detail::kMessageFieldsBytes];
-                if (in_summary) return fail(pos, "Message record after DataEnd");
-                if (length < sizeof(fields)) return fail(pos, "malformed Message record (too short)");
-                DF_RETURN_IF_ERROR(read_at(at_content, sizeof(fields), fields));
-                detail::decode_message_fields(fields, sizeof(fields), m);
-                units_.push_back({pos, length, m.log_time, false});
-                break;
-            }
-            case Op::kChunk: {
-                if (in_summary) return fail(pos, "Chunk record after DataEnd");
-                // Fixed fields (28 bytes), compression string length (4), string, records length (8).
-                uint8_t fixed[32];
-                if (length < sizeof(fixed) + 8) return fail(pos, "malformed Chunk record (too short)");
-                DF_RETURN_IF_ERROR(read_at(at_content, sizeof(fixed), fixed));
-                const uint64_t head_size = sizeof(fixed) + le32(fixed + 28) + 8;
-                std::vector<uint8_t> head(std::min<uint64_t>(head_size, length));
-                DF_RETURN_IF_ERROR(read_at(at_content, head.size(), head.data()));
-                detail::ChunkHeader h;
-                if (head_size > length || !detail::decode_chunk_header(head.data(), head.size(), h) ||
-                    h.records_size > length - h.records_offset) {
-                    return fail(pos, "malformed Chunk record (its fields run past its end)");
-                }
-                units_.push_back({pos, length, h.message_start_time, true});
-                break;
-            }
-            case Op::kDataEnd:
-                in_data_section = false;
-                break;
-            case Op::kStatistics: {
-                Statistics s;
-                if (!detail::decode_statistics(content.data(), content.size(), s)) {
-                    return fail(pos, "malformed Statistics record");
-                }
-                statistics_ = s;
-                break;
-            }
-            default:  // indexes, attachments, metadata, summary offsets, unknown: not needed
-                break;
-        }
+        DF_RETURN_IF_ERROR(scan_record(pos, op, length, in_data_section));
         pos = at_content + length;
     }
+
+    if (!summary_has_channels_) {  // no summary to trust: collect schemas/channels from chunks
+        for (const DataUnit& unit : units_) {
+            if (!unit.is_chunk) continue;
+            LoadedRecords loaded;
+            DF_RETURN_IF_ERROR(load_chunk(unit, loaded));
+            DF_RETURN_IF_ERROR(walk_chunk(unit, loaded, nullptr));
+        }
+    }
+    return Status::ok();
+}
+
+Status Reader::scan_record(uint64_t pos, uint8_t op, uint64_t length, bool& in_data_section) {
+    const uint64_t at_content = pos + detail::kRecordPrefixBytes;
+    std::vector<uint8_t> content;
+    if (op == uint8_t(Op::kHeader) || op == uint8_t(Op::kSchema) || op == uint8_t(Op::kChannel) ||
+        op == uint8_t(Op::kStatistics)) {
+        if (length > kMaxSmallRecordBytes) {
+            return fail(pos, op_name(op) + " record of " + str(length) + " bytes is implausible");
+        }
+        DF_RETURN_IF_ERROR(read_record_content(at_content, length, content));
+    }
+    switch (Op(op)) {
+        case Op::kHeader: {
+            detail::ByteReader r(content.data(), content.size());
+            if (!r.str(profile_) || !r.str(library_)) return fail(pos, "malformed Header record");
+            return Status::ok();
+        }
+        case Op::kSchema: {
+            Schema s;
+            if (!detail::decode_schema(content.data(), content.size(), s)) {
+                return fail(pos, "malformed Schema record");
+            }
+            if (!add_schema(s))
+                return fail(pos, "Schema id " + str(s.id) + " redefined differently");
+            return Status::ok();
+        }
+        case Op::kChannel: {
+            Channel c;
+            if (!detail::decode_channel(content.data(), content.size(), c)) {
+                return fail(pos, "malformed Channel record");
+            }
+            if (!add_channel(c))
+                return fail(pos, "Channel id " + str(c.id) + " redefined differently");
+            summary_has_channels_ = summary_has_channels_ || !in_data_section;
+            return Status::ok();
+        }
+        case Op::kMessage: {
+            if (!in_data_section) return fail(pos, "Message record after DataEnd");
+            uint8_t fields[detail::kMessageFieldsBytes];
+            if (length < sizeof(fields)) return fail(pos, "malformed Message record (too short)");
+            DF_RETURN_IF_ERROR(read_at(at_content, sizeof(fields), fields));
+            detail::MessageFields m;
+            detail::decode_message_fields(fields, sizeof(fields), m);
+            units_.push_back({pos, length, m.log_time, false});
+            return Status::ok();
+        }
+        case Op::kChunk:
+            if (!in_data_section) return fail(pos, "Chunk record after DataEnd");
+            return scan_chunk(pos, length);
+        case Op::kDataEnd:
+            in_data_section = false;
+            return Status::ok();
+        case Op::kStatistics: {
+            Statistics s;
+            if (!detail::decode_statistics(content.data(), content.size(), s)) {
+                return fail(pos, "malformed Statistics record");
+            }
+            statistics_ = s;
+            return Status::ok();
+        }
+        default:  // indexes, attachments, metadata, summary offsets, unknown: not needed
+            return Status::ok();
+    }
+}
+
+Status Reader::scan_chunk(uint64_t pos, uint64_t length) {
+    // Fixed fields (28 bytes), compression string length (4), the string, records length (8).
+    const uint64_t at_content = pos + detail::kRecordPrefixBytes;
+    uint8_t fixed[32];
+    if (length < sizeof(fixed) + 8) return fail(pos, "malformed Chunk record (too short)");
+    DF_RETURN_IF_ERROR(read_at(at_content, sizeof(fixed), fixed));
+    const uint64_t head_size = sizeof(fixed) + le32(fixed + 28) + 8;
+    if (head_size > length)
+        return fail(pos, "malformed Chunk record (its fields run past its end)");
+    std::vector<uint8_t> head(head_size);
+    DF_RETURN_IF_ERROR(read_at(at_content, head.size(), head.data()));
+    detail::ChunkHeader h;
+    if (!detail::decode_chunk_header(head.data(), head.size(), h) ||
+        h.records_size > length - h.records_offset) {
+        return fail(pos, "malformed Chunk record (its records run past its end)");
+    }
+    units_.push_back({pos, length, h.message_start_time, true});
+    return Status::ok();
 }
 
 Status Reader::check_footer(uint64_t footer_offset, uint64_t content_length) {
     if (content_length != detail::kFooterBytes) {
-        return fail(footer_offset, "Footer record has " + str(content_length) + " bytes, 20 expected");
+        return fail(footer_offset,
+                    "Footer record has " + str(content_length) + " bytes, 20 expected");
     }
     const uint64_t end = footer_offset + detail::kRecordPrefixBytes + detail::kFooterBytes;
     uint8_t magic[8];
@@ -270,24 +299,17 @@ Status Reader::check_footer(uint64_t footer_offset, uint64_t content_length) {
                                            ", Footer says " + str(summary_crc) + ")");
         }
     }
-    if (!summary_has_channels_) {  // no summary to trust: collect schemas/channels from chunks
-        for (const DataUnit& unit : units_) {
-            if (!unit.is_chunk) continue;
-            LoadedRecords loaded;
-            DF_RETURN_IF_ERROR(load_chunk(unit, loaded));
-            DF_RETURN_IF_ERROR(walk_chunk(unit, loaded, nullptr));
-        }
-    }
     return Status::ok();
 }
 
 Status Reader::load_chunk(const DataUnit& unit, LoadedRecords& loaded) const {
     if (unit.content_length > kMaxChunkBytes) {
-        return fail(unit.offset, "Chunk record of " + str(unit.content_length) + " bytes is implausible");
+        return fail(unit.offset,
+                    "Chunk record of " + str(unit.content_length) + " bytes is implausible");
     }
     auto content = std::make_shared<std::vector<uint8_t>>();
-    DF_RETURN_IF_ERROR(
-        read_record_content(unit.offset + detail::kRecordPrefixBytes, unit.content_length, *content));
+    DF_RETURN_IF_ERROR(read_record_content(unit.offset + detail::kRecordPrefixBytes,
+                                           unit.content_length, *content));
     detail::ChunkHeader h;
     detail::decode_chunk_header(content->data(), content->size(), h);  // checked by scan()
     const uint8_t* records = content->data() + h.records_offset;
@@ -300,22 +322,22 @@ Status Reader::load_chunk(const DataUnit& unit, LoadedRecords& loaded) const {
         loaded = {content, h.records_offset, size_t(h.records_size)};
     } else if (h.compression == "zstd") {
         if (h.uncompressed_size > kMaxChunkBytes) {
-            return fail(unit.offset, "chunk uncompressed size " + str(h.uncompressed_size) +
-                                         " is implausible");
+            return fail(unit.offset,
+                        "chunk uncompressed size " + str(h.uncompressed_size) + " is implausible");
         }
         const unsigned long long frame_size = ZSTD_getFrameContentSize(records, h.records_size);
         if (frame_size == ZSTD_CONTENTSIZE_ERROR) {
             return fail(unit.offset, "zstd chunk does not start with a zstd frame");
         }
         if (frame_size != ZSTD_CONTENTSIZE_UNKNOWN && frame_size != h.uncompressed_size) {
-            return fail(unit.offset, "zstd frame holds " + str(frame_size) + " bytes but chunk says " +
-                                         str(h.uncompressed_size));
+            return fail(unit.offset, "zstd frame holds " + str(frame_size) +
+                                         " bytes but chunk says " + str(h.uncompressed_size));
         }
         auto out = std::make_shared<std::vector<uint8_t>>(h.uncompressed_size);
         const size_t n = ZSTD_decompress(out->data(), out->size(), records, h.records_size);
         if (ZSTD_isError(n)) {
-            return fail(unit.offset, std::string("zstd chunk does not decompress: ") +
-                                         ZSTD_getErrorName(n));
+            return fail(unit.offset,
+                        std::string("zstd chunk does not decompress: ") + ZSTD_getErrorName(n));
         }
         if (n != h.uncompressed_size) {
             return fail(unit.offset, "zstd chunk decompresses to " + str(n) + " bytes, " +
@@ -329,8 +351,8 @@ Status Reader::load_chunk(const DataUnit& unit, LoadedRecords& loaded) const {
     if (h.uncompressed_crc != 0) {
         const uint32_t crc = detail::crc32(loaded.buffer->data() + loaded.begin, loaded.size);
         if (crc != h.uncompressed_crc) {
-            return fail(unit.offset, "chunk CRC mismatch (computed " + str(crc) +
-                                         ", chunk says " + str(h.uncompressed_crc) + ")");
+            return fail(unit.offset, "chunk CRC mismatch (computed " + str(crc) + ", chunk says " +
+                                         str(h.uncompressed_crc) + ")");
         }
     }
     return Status::ok();
@@ -342,8 +364,8 @@ Status Reader::walk_chunk(const DataUnit& unit, const LoadedRecords& loaded,
     const size_t n = loaded.size;
     for (size_t p = 0; p < n;) {
         const auto bad = [&](const std::string& what) {
-            return fail(unit.offset, "chunk record at byte " + str(p) +
-                                         " of its uncompressed records: " + what);
+            return fail(unit.offset,
+                        "chunk record at byte " + str(p) + " of its uncompressed records: " + what);
         };
         if (n - p < detail::kRecordPrefixBytes) return bad("truncated record header");
         const uint8_t op = base[p];
@@ -429,8 +451,12 @@ Status Reader::for_each_message(const std::function<bool(const Message&)>& fn) {
             return fail(m.source_offset, "message on channel id " + str(m.fields.channel_id) +
                                              ", which no Channel record defines");
         }
-        const Message message{m.fields.channel_id, m.fields.sequence, m.fields.log_time,
-                              m.fields.publish_time, m.buffer->data() + m.data_offset, m.data_size};
+        const Message message{m.fields.channel_id,
+                              m.fields.sequence,
+                              m.fields.log_time,
+                              m.fields.publish_time,
+                              m.buffer->data() + m.data_offset,
+                              m.data_size};
         if (!fn(message)) return Status::ok();
     }
 }

@@ -18,7 +18,7 @@
 namespace df::mcap {
 
 class Reader {
-public:
+  public:
     /// Opens `path` and checks its structure: leading magic, Header, every top-level record's
     /// length, Footer and trailing magic, and the summary CRC. Fails for a truncated file
     /// (e.g. a recording that was never closed). Schemas and channels come from the summary,
@@ -41,7 +41,7 @@ public:
     /// valid only during the call.
     Status for_each_message(const std::function<bool(const Message&)>& fn);
 
-private:
+  private:
     /// A chunk or a top-level Message record in the data section.
     struct DataUnit {
         uint64_t offset = 0;  ///< of the record's opcode
@@ -55,7 +55,12 @@ private:
     Reader(std::string path, int fd, uint64_t size);
     Status read_at(uint64_t offset, size_t size, uint8_t* dst) const;
     Status read_record_content(uint64_t offset, uint64_t length, std::vector<uint8_t>& out) const;
+    /// Walks the top-level records from the Header to the Footer (see open()).
     Status scan();
+    /// One top-level record other than the Footer, whose length scan() has checked.
+    Status scan_record(uint64_t offset, uint8_t op, uint64_t length, bool& in_data_section);
+    Status scan_chunk(uint64_t offset, uint64_t length);
+    /// Footer, closing magic and summary CRC.
     Status check_footer(uint64_t footer_offset, uint64_t content_length);
     /// Registers a schema/channel; false when one with the same id but other content exists.
     bool add_schema(const Schema& s);
@@ -65,7 +70,7 @@ private:
     /// Walks the records inside a loaded chunk: registers schemas/channels, collects messages.
     Status walk_chunk(const DataUnit& unit, const LoadedRecords& loaded,
                       std::vector<Pending>* messages);
-    /// An kIoError "MCAP file '<path>', byte <offset>: <what>".
+    /// A kIoError "MCAP file '<path>', byte <offset>: <what>".
     Status fail(uint64_t offset, const std::string& what) const;
 
     std::string path_;

@@ -8,9 +8,9 @@ namespace df::mcap::detail {
 
 std::string op_name(uint8_t op) {
     static constexpr const char* kNames[] = {
-        "?",           "Header",          "Footer",     "Schema",   "Channel", "Message",
-        "Chunk",       "MessageIndex",    "ChunkIndex", "Attachment", "AttachmentIndex",
-        "Statistics",  "Metadata",        "MetadataIndex", "SummaryOffset", "DataEnd"};
+        "?",        "Header",        "Footer",        "Schema",     "Channel",         "Message",
+        "Chunk",    "MessageIndex",  "ChunkIndex",    "Attachment", "AttachmentIndex", "Statistics",
+        "Metadata", "MetadataIndex", "SummaryOffset", "DataEnd"};
     char code[8];
     std::snprintf(code, sizeof(code), "0x%02X", op);
     const char* name = op < sizeof(kNames) / sizeof(kNames[0]) && op != 0 ? kNames[op] : "unknown";
@@ -226,9 +226,8 @@ bool decode_message_fields(const uint8_t* content, size_t size, MessageFields& m
 
 bool decode_chunk_header(const uint8_t* content, size_t size, ChunkHeader& h) {
     ByteReader r(content, size);
-    if (!(r.u64(h.message_start_time) && r.u64(h.message_end_time) &&
-          r.u64(h.uncompressed_size) && r.u32(h.uncompressed_crc) && r.str(h.compression) &&
-          r.u64(h.records_size))) {
+    if (!(r.u64(h.message_start_time) && r.u64(h.message_end_time) && r.u64(h.uncompressed_size) &&
+          r.u32(h.uncompressed_crc) && r.str(h.compression) && r.u64(h.records_size))) {
         return false;
     }
     h.records_offset = r.pos();

@@ -42,18 +42,18 @@ std::string op_name(uint8_t op);
 
 /// CRC-32 (IEEE 802.3, reflected polynomial 0xEDB88320), as MCAP uses it.
 class Crc32 {
-public:
+  public:
     void update(const uint8_t* data, size_t size);
     uint32_t value() const { return ~state_; }
 
-private:
+  private:
     uint32_t state_ = 0xFFFFFFFFu;
 };
 uint32_t crc32(const uint8_t* data, size_t size);
 
 /// Appends little-endian fields to a byte buffer.
 class ByteWriter {
-public:
+  public:
     explicit ByteWriter(std::vector<uint8_t>& out) : out_(out) {}
     void u8(uint8_t v) { out_.push_back(v); }
     void u16(uint16_t v) { put(v, 2); }
@@ -71,7 +71,7 @@ public:
     size_t begin_u32_length();
     void end_u32_length(size_t elements_start);
 
-private:
+  private:
     void put(uint64_t v, int bytes);
     std::vector<uint8_t>& out_;
 };
@@ -79,7 +79,7 @@ private:
 /// Reads little-endian fields from a byte range; every read is bounds-checked and returns false
 /// (leaving the position unchanged) when the range is too short.
 class ByteReader {
-public:
+  public:
     ByteReader(const uint8_t* data, size_t size) : data_(data), size_(size) {}
     bool u8(uint8_t& v);
     bool u16(uint16_t& v);
@@ -92,7 +92,7 @@ public:
     size_t remaining() const { return size_ - pos_; }
     const uint8_t* here() const { return data_ + pos_; }
 
-private:
+  private:
     bool get(uint64_t& v, int bytes);
     const uint8_t* data_;
     size_t size_;

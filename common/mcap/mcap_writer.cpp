@@ -43,7 +43,8 @@ Writer::Writer(std::string path, WriterOptions options, std::FILE* file)
 Writer::~Writer() {
     if (closed_) return;
     const Status status = close();
-    if (!status.is_ok()) log::error("MCAP writer: closing on destruction failed: ", status.to_string());
+    if (!status.is_ok())
+        log::error("MCAP writer: closing on destruction failed: ", status.to_string());
 }
 
 Status Writer::check_writable() const {
@@ -55,9 +56,9 @@ Status Writer::check_writable() const {
 Status Writer::write_bytes(const uint8_t* data, size_t size) {
     if (!failure_.is_ok()) return failure_;
     if (size > 0 && std::fwrite(data, 1, size, file_) != size) {
-        failure_ = error(StatusCode::kIoError, "writing MCAP file '" + path_ + "' failed at byte " +
-                                                   std::to_string(offset_) + ": " +
-                                                   std::strerror(errno));
+        failure_ =
+            error(StatusCode::kIoError, "writing MCAP file '" + path_ + "' failed at byte " +
+                                            std::to_string(offset_) + ": " + std::strerror(errno));
         return failure_;
     }
     if (!data_section_ended_) data_crc_.update(data, size);
@@ -116,8 +117,8 @@ Status Writer::write(uint16_t channel_id, uint32_t sequence, uint64_t log_time_n
     }
 
     const uint64_t offset_in_chunk = chunk_records_.size();
-    detail::encode_message_prefix(chunk_records_, {channel_id, sequence, log_time_ns, publish_time_ns},
-                                  size);
+    detail::encode_message_prefix(chunk_records_,
+                                  {channel_id, sequence, log_time_ns, publish_time_ns}, size);
     if (size > 0) chunk_records_.insert(chunk_records_.end(), data, data + size);
     if (chunk_message_index_.empty()) {
         chunk_start_time_ = chunk_end_time_ = log_time_ns;
@@ -158,12 +159,13 @@ Status Writer::flush_chunk() {
     uint64_t records_size = uncompressed_size;
     if (options_.compression == WriterOptions::Compression::kZstd) {
         compressed_.resize(ZSTD_compressBound(chunk_records_.size()));
-        const size_t n = ZSTD_compress(compressed_.data(), compressed_.size(), chunk_records_.data(),
-                                       chunk_records_.size(), options_.zstd_level);
+        const size_t n =
+            ZSTD_compress(compressed_.data(), compressed_.size(), chunk_records_.data(),
+                          chunk_records_.size(), options_.zstd_level);
         if (ZSTD_isError(n)) {
-            failure_ = error(StatusCode::kInternal, "MCAP file '" + path_ +
-                                                        "': zstd compression failed: " +
-                                                        ZSTD_getErrorName(n));
+            failure_ = error(
+                StatusCode::kInternal,
+                "MCAP file '" + path_ + "': zstd compression failed: " + ZSTD_getErrorName(n));
             return failure_;
         }
         records = compressed_.data();

@@ -2,7 +2,7 @@
 /// Writes MCAP files (https://mcap.dev/spec) that Foxglove Studio and @mcap/core can open:
 /// messages in chunks (each followed by its MessageIndex records), then a summary section
 /// (Schema, Channel, ChunkIndex, Statistics), SummaryOffset records and the Footer.
-/// Memory use is bounded by one chunk (chunk_size, or one message when it is larger).
+/// Memory use is bounded by one chunk (chunk_size_bytes, or one message when larger).
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -20,7 +20,7 @@ namespace df::mcap {
 struct WriterOptions {
     enum class Compression { kNone, kZstd };
 
-    std::string profile;                ///< Header profile; "" = no well-known profile
+    std::string profile;                   ///< Header profile; "" = no well-known profile
     std::string library = "detectfusion";  ///< Header library (writer name/version)
     /// A chunk is closed once its uncompressed records reach this many bytes; a message larger
     /// than this gets a chunk of its own.
@@ -33,7 +33,7 @@ struct WriterOptions {
 /// when close() was not called; call close() yourself to see its Status.
 /// After the first failed file write every call returns that error.
 class Writer {
-public:
+  public:
     /// Creates (truncates) `path` and writes the magic and the Header record.
     static Result<std::unique_ptr<Writer>> open(const std::string& path,
                                                 WriterOptions options = {});
@@ -63,7 +63,7 @@ public:
     /// Bytes written to the file so far (the current chunk is not counted until it is written).
     uint64_t bytes_written() const { return offset_; }
 
-private:
+  private:
     struct ChunkIndex {
         uint64_t message_start_time = 0, message_end_time = 0;
         uint64_t chunk_offset = 0, chunk_length = 0;

@@ -25,12 +25,14 @@ std::vector<uint8_t> make_file(Compression compression) {
         auto writer = Writer::open(path, options);
         EXPECT_TRUE(writer.is_ok());
         Writer& w = **writer;
-        const uint16_t schema = w.add_schema("df::msg::Pose", "omgidl", "struct Pose { double x; };").value();
+        const uint16_t schema =
+            w.add_schema("df::msg::Pose", "omgidl", "struct Pose { double x; };").value();
         const uint16_t a = w.add_channel(schema, "/a", "cdr").value();
         const uint16_t b = w.add_channel(schema, "/b", "cdr").value();
         for (uint32_t i = 0; i < 12; ++i) {
             const auto data = test::cdr_payload(40 + 20 * i, i);
-            EXPECT_TRUE(w.write(i % 2 ? a : b, i, 1000 + i, 999 + i, data.data(), data.size()).is_ok());
+            EXPECT_TRUE(
+                w.write(i % 2 ? a : b, i, 1000 + i, 999 + i, data.data(), data.size()).is_ok());
         }
         EXPECT_TRUE(w.close().is_ok());
     }
@@ -86,7 +88,8 @@ TEST(McapCorrupt, EveryTruncationFailsNamingFileAndOffset) {
     for (size_t length = 0; length < bytes.size(); ++length) {
         test::write_file(path, bytes.data(), length);
         const Status s = open_and_read(path);
-        SCOPED_TRACE("truncated to " + std::to_string(length) + " of " + std::to_string(bytes.size()));
+        SCOPED_TRACE("truncated to " + std::to_string(length) + " of " +
+                     std::to_string(bytes.size()));
         expect_error_at(s, path, "byte ");
         if (HasFailure()) break;
     }

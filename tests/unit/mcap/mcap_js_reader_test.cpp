@@ -31,7 +31,8 @@ const std::string kFrameIdl =
     "  @final struct RgbdFrame { uint64 stamp_ns; uint32 seq; sequence<uint8> rgb; };\n"
     "}; };\n";
 const std::string kPoseIdl =
-    "module df { module msg {\n  struct Pose { uint64 stamp_ns; double t[3]; double q[4]; };\n}; };\n";
+    "module df { module msg {\n  struct Pose { uint64 stamp_ns; double t[3]; double q[4]; };\n}; "
+    "};\n";
 
 std::string shell_quote(const std::string& s) {
     std::string out = "'";
@@ -61,8 +62,9 @@ TEST(Sha256, KnownDigests) {
     EXPECT_EQ(test::sha256_hex(nullptr, 0),
               "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
     const std::string two_blocks = "abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq";
-    EXPECT_EQ(test::sha256_hex(reinterpret_cast<const uint8_t*>(two_blocks.data()), two_blocks.size()),
-              "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
+    EXPECT_EQ(
+        test::sha256_hex(reinterpret_cast<const uint8_t*>(two_blocks.data()), two_blocks.size()),
+        "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
 }
 
 TEST(McapJsReader, FoxgloveMcapCoreReadsWhatWeWrote) {
@@ -85,13 +87,14 @@ TEST(McapJsReader, FoxgloveMcapCoreReadsWhatWeWrote) {
         Writer& w = **writer;
         const uint16_t frame = w.add_schema("df::msg::RgbdFrame", "omgidl", kFrameIdl).value();
         const uint16_t pose = w.add_schema("df::msg::Pose", "omgidl", kPoseIdl).value();
-        const uint16_t rgbd = w.add_channel(frame, "/camera/rgbd", "cdr", {{"source", "tum"}}).value();
+        const uint16_t rgbd =
+            w.add_channel(frame, "/camera/rgbd", "cdr", {{"source", "tum"}}).value();
         const uint16_t poses = w.add_channel(pose, "/slam/pose", "cdr").value();
         const uint64_t t0 = 1'700'000'000'123'456'789ull;  // beyond 2^53: must survive as text
         for (uint32_t i = 0; i < 10; ++i) {
             const size_t frame_size = i == 4 ? 1'500'000 : 2'000 + 13 * i;
-            written.push_back({rgbd, 100 + i, t0 + i * 33'333'333ull, t0 + i * 33'333'333ull - 2'000,
-                               test::cdr_payload(frame_size, i)});
+            written.push_back({rgbd, 100 + i, t0 + i * 33'333'333ull,
+                               t0 + i * 33'333'333ull - 2'000, test::cdr_payload(frame_size, i)});
             written.push_back({poses, i, t0 + i * 33'333'333ull + (i % 3 == 0 ? 1 : 40'000'000),
                                t0 + i * 33'333'333ull, test::cdr_payload(64, 1000 + i)});
         }
@@ -103,9 +106,9 @@ TEST(McapJsReader, FoxgloveMcapCoreReadsWhatWeWrote) {
         ASSERT_TRUE(w.close().is_ok());
     }
 
-    const std::string output =
-        run(shell_quote(node) + " " + shell_quote(js_dir + "/mcap_dump.mjs") + " " + shell_quote(path),
-            code);
+    const std::string output = run(
+        shell_quote(node) + " " + shell_quote(js_dir + "/mcap_dump.mjs") + " " + shell_quote(path),
+        code);
     ASSERT_EQ(code, 0) << "mcap_dump.mjs failed (its reason is above); stdout:\n" << output;
     const nlohmann::json dump = nlohmann::json::parse(output, nullptr, false);
     ASSERT_FALSE(dump.is_discarded()) << "mcap_dump.mjs printed no JSON:\n" << output;
@@ -116,8 +119,9 @@ TEST(McapJsReader, FoxgloveMcapCoreReadsWhatWeWrote) {
     EXPECT_EQ(dump["schemas"][0]["name"], "df::msg::RgbdFrame");
     EXPECT_EQ(dump["schemas"][0]["encoding"], "omgidl");
     EXPECT_EQ(dump["schemas"][0]["dataLength"], kFrameIdl.size());
-    EXPECT_EQ(dump["schemas"][0]["dataSha256"],
-              test::sha256_hex(reinterpret_cast<const uint8_t*>(kFrameIdl.data()), kFrameIdl.size()));
+    EXPECT_EQ(
+        dump["schemas"][0]["dataSha256"],
+        test::sha256_hex(reinterpret_cast<const uint8_t*>(kFrameIdl.data()), kFrameIdl.size()));
     EXPECT_EQ(dump["schemas"][1]["name"], "df::msg::Pose");
     ASSERT_EQ(dump["channels"].size(), 2u);
     EXPECT_EQ(dump["channels"][0]["topic"], "/camera/rgbd");
@@ -131,9 +135,8 @@ TEST(McapJsReader, FoxgloveMcapCoreReadsWhatWeWrote) {
     EXPECT_EQ(dump["statistics"]["channelMessageCounts"]["2"], "10");
 
     std::vector<WrittenMessage> expected = written;
-    std::stable_sort(expected.begin(), expected.end(), [](const auto& a, const auto& b) {
-        return a.log_time_ns < b.log_time_ns;
-    });
+    std::stable_sort(expected.begin(), expected.end(),
+                     [](const auto& a, const auto& b) { return a.log_time_ns < b.log_time_ns; });
     const nlohmann::json& messages = dump["messages"];
     ASSERT_EQ(messages.size(), expected.size());
     for (size_t i = 0; i < expected.size(); ++i) {

@@ -17,7 +17,8 @@ namespace {
 using test::WrittenMessage;
 using Compression = WriterOptions::Compression;
 
-const std::string kFrameIdl = "module df { module msg { struct RgbdFrame { uint64 stamp_ns; }; }; };";
+const std::string kFrameIdl =
+    "module df { module msg { struct RgbdFrame { uint64 stamp_ns; }; }; };";
 const std::string kPoseIdl = "module df { module msg { struct Pose { double xyz[3]; }; }; };";
 
 std::vector<WrittenMessage> read_all(Reader& reader) {
@@ -61,7 +62,8 @@ TEST_P(RoundTrip, SchemasChannelsAndMessagesComeBackByteIdenticalInLogTimeOrder)
         const uint16_t frame = w.add_schema("df::msg::RgbdFrame", "omgidl", kFrameIdl).value();
         const uint16_t pose = w.add_schema("df::msg::Pose", "omgidl", kPoseIdl).value();
         EXPECT_EQ(w.add_schema("df::msg::RgbdFrame", "omgidl", kFrameIdl).value(), frame);
-        const uint16_t rgbd = w.add_channel(frame, "/camera/rgbd", "cdr", {{"qos", "reliable"}}).value();
+        const uint16_t rgbd =
+            w.add_channel(frame, "/camera/rgbd", "cdr", {{"qos", "reliable"}}).value();
         const uint16_t poses = w.add_channel(pose, "/slam/pose", "cdr").value();
         const uint16_t raw = w.add_channel(0, "/debug/raw", "cdr").value();
         const uint16_t channels[] = {rgbd, poses, raw};
@@ -69,7 +71,8 @@ TEST_P(RoundTrip, SchemasChannelsAndMessagesComeBackByteIdenticalInLogTimeOrder)
             // Log times out of order and with ties; every 15th message is larger than a chunk.
             const uint64_t log_time = 1'700'000'000'000'000'000ull + (i * 37 % 25) * 1'000'000;
             const size_t size = i % 15 == 7 ? 10'000 : (i * 53) % 300;
-            written.push_back({channels[i % 3], i, log_time, log_time - 500, test::cdr_payload(size, i)});
+            written.push_back(
+                {channels[i % 3], i, log_time, log_time - 500, test::cdr_payload(size, i)});
             const WrittenMessage& m = written.back();
             ASSERT_TRUE(w.write(m.channel_id, m.sequence, m.log_time_ns, m.publish_time_ns,
                                 m.data.data(), m.data.size())
@@ -85,9 +88,8 @@ TEST_P(RoundTrip, SchemasChannelsAndMessagesComeBackByteIdenticalInLogTimeOrder)
     Reader& r = **reader;
     EXPECT_EQ(r.profile(), "x-detectfusion");
     EXPECT_EQ(r.library(), "detectfusion");
-    const std::map<uint16_t, Schema> schemas = {
-        {1, {1, "df::msg::RgbdFrame", "omgidl", kFrameIdl}},
-        {2, {2, "df::msg::Pose", "omgidl", kPoseIdl}}};
+    const std::map<uint16_t, Schema> schemas = {{1, {1, "df::msg::RgbdFrame", "omgidl", kFrameIdl}},
+                                                {2, {2, "df::msg::Pose", "omgidl", kPoseIdl}}};
     EXPECT_EQ(r.schemas(), schemas);
     const std::map<uint16_t, Channel> channels = {
         {1, {1, 1, "/camera/rgbd", "cdr", {{"qos", "reliable"}}}},
@@ -102,9 +104,8 @@ TEST_P(RoundTrip, SchemasChannelsAndMessagesComeBackByteIdenticalInLogTimeOrder)
     EXPECT_GT(r.statistics()->chunk_count, 4u);
 
     std::vector<WrittenMessage> expected = written;
-    std::stable_sort(expected.begin(), expected.end(), [](const auto& a, const auto& b) {
-        return a.log_time_ns < b.log_time_ns;
-    });
+    std::stable_sort(expected.begin(), expected.end(),
+                     [](const auto& a, const auto& b) { return a.log_time_ns < b.log_time_ns; });
     expect_same_messages(expected, read_all(r));
     // A second pass reads the same again.
     expect_same_messages(expected, read_all(r));
@@ -198,7 +199,8 @@ TEST(McapReader, StopsWhenTheCallbackReturnsFalse) {
     {
         auto writer = Writer::open(path);
         const uint16_t ch = (*writer)->add_channel(0, "/t", "cdr").value();
-        for (uint32_t i = 0; i < 10; ++i) ASSERT_TRUE((*writer)->write(ch, i, i, i, nullptr, 0).is_ok());
+        for (uint32_t i = 0; i < 10; ++i)
+            ASSERT_TRUE((*writer)->write(ch, i, i, i, nullptr, 0).is_ok());
     }
     auto reader = Reader::open(path);
     ASSERT_TRUE(reader.is_ok());
@@ -284,7 +286,8 @@ TEST(Crc32, MatchesTheStandardCheckValue) {
     // Slice-by-8 and byte-wise paths agree when the input is fed in odd pieces.
     const auto data = test::cdr_payload(1001, 3);
     detail::Crc32 pieces;
-    for (size_t i = 0; i < data.size(); i += 7) pieces.update(data.data() + i, std::min<size_t>(7, data.size() - i));
+    for (size_t i = 0; i < data.size(); i += 7)
+        pieces.update(data.data() + i, std::min<size_t>(7, data.size() - i));
     EXPECT_EQ(pieces.value(), detail::crc32(data.data(), data.size()));
 }
 

@@ -59,14 +59,14 @@ StreamShape VirtualDevice::shape_of(OniSensorType sensor) const {
 
 oni::driver::StreamBase* VirtualDevice::createStream(OniSensorType sensor) {
     if (sensor != ONI_SENSOR_COLOR && sensor != ONI_SENSOR_DEPTH) return nullptr;
-    auto stream = std::make_unique<VirtualStream>(shape_of(sensor), [this] { on_start_stop(); });
+    auto stream = std::make_shared<VirtualStream>(shape_of(sensor), [this] { on_start_stop(); });
     std::lock_guard<std::mutex> lock(streams_mutex_);
     streams_.push_back(std::move(stream));
     return streams_.back().get();
 }
 
 void VirtualDevice::destroyStream(oni::driver::StreamBase* stream) {
-    std::unique_ptr<VirtualStream> doomed;
+    std::shared_ptr<VirtualStream> doomed;
     {
         std::lock_guard<std::mutex> lock(streams_mutex_);
         auto it = std::find_if(streams_.begin(), streams_.end(),
@@ -75,6 +75,8 @@ void VirtualDevice::destroyStream(oni::driver::StreamBase* stream) {
         doomed = std::move(*it);
         streams_.erase(it);
     }
+    // OpenNI stopped the stream before destroying it (and may hold its locks now, so waiting
+    // for a send here could deadlock); a send still holding `doomed` will find it stopped.
     player_wake_.notify_all();
 }
 
@@ -140,9 +142,13 @@ bool VirtualDevice::send_next() {
     }
     pair_.rgb_stamp_us += stamp_offset_us_;
     pair_.depth_stamp_us += stamp_offset_us_;
-    std::lock_guard<std::mutex> lock(streams_mutex_);
-    for (const auto& stream : streams_) {
-        if (stream->started() && !stream->push(pair_, frame_index_)) {
+    std::vector<std::shared_ptr<VirtualStream>> streams;
+    {
+        std::lock_guard<std::mutex> lock(streams_mutex_);
+        streams = streams_;
+    }
+    for (const auto& stream : streams) {
+        if (!stream->push(pair_, frame_index_)) {
             hooks_.warn("OpenNI gave no buffer for frame " + std::to_string(frame_index_));
         }
     }
@@ -180,8 +186,10 @@ void VirtualDevice::play_loop() {
             continue;
         }
         if (!playing) {
+            // Like a camera, the first frame comes one period after the start, which leaves a
+            // reader time to finish its set-up (frame sync) instead of losing frame 0.
             playing = true;
-            due = Clock::now();
+            due = Clock::now() + std::chrono::microseconds(to_us(sequence_.period_s));
         }
         const bool interrupted =
             player_wake_.wait_until(lock, due, [this] { return quit_ || !all_streams_started(); });
@@ -196,6 +204,9 @@ void VirtualDevice::play_loop() {
                                   : sequence_.period_s;
         due += std::chrono::microseconds(to_us(std::max(0.0, step_s)));
     }
+    // Reported without our locks. OpenNI takes its context lock here; an application that shuts
+    // OpenNI down without closing the device first holds that lock while it waits for us in
+    // ~VirtualDevice, hence the quit_ check (OpenNiSource closes the device first).
     const bool tell = !quit_ && ended_;
     lock.unlock();
     if (tell) hooks_.ended();

@@ -63,9 +63,10 @@ class VirtualDevice final : public oni::driver::DeviceBase {
     std::vector<OniVideoMode> color_modes_, depth_modes_;
     std::vector<OniSensorInfo> sensor_infos_;
 
-    mutable std::mutex streams_mutex_;  // streams_, registration_, player state below
+    // Never held while calling into OpenNI (OpenNI holds its own locks when it calls us).
+    mutable std::mutex streams_mutex_;  // streams_, registration_, quit_
     std::condition_variable player_wake_;
-    std::vector<std::unique_ptr<VirtualStream>> streams_;
+    std::vector<std::shared_ptr<VirtualStream>> streams_;  // shared: a send may outlive removal
     OniImageRegistrationMode registration_ = ONI_IMAGE_REGISTRATION_OFF;
     bool quit_ = false;
     std::thread player_;

@@ -34,13 +34,17 @@ VirtualStream::VirtualStream(const StreamShape& shape, std::function<void()> on_
     : shape_(shape), on_start_stop_(std::move(on_start_stop)) {}
 
 OniStatus VirtualStream::start() {
+    // No lock: OpenNI may hold its own locks here, and a push racing a start is harmless.
     started_ = true;
     on_start_stop_();
     return ONI_STATUS_OK;
 }
 
 void VirtualStream::stop() {
-    started_ = false;
+    {
+        std::lock_guard<std::mutex> lock(push_mutex_);
+        started_ = false;
+    }
     on_start_stop_();
 }
 
@@ -117,6 +121,8 @@ OniStatus VirtualStream::setProperty(int property, const void* data, int size) {
 }
 
 bool VirtualStream::push(const FramePair& pair, int frame_index) {
+    std::lock_guard<std::mutex> lock(push_mutex_);
+    if (!started_) return true;
     OniFrame* frame = getServices().acquireFrame();
     if (frame == nullptr) return false;
     const int bytes = bytes_per_frame();

@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <functional>
+#include <mutex>
 
 #include "sequence.hpp"
 
@@ -23,6 +24,8 @@ class VirtualStream final : public oni::driver::StreamBase {
     VirtualStream(const StreamShape& shape, std::function<void()> on_start_stop);
 
     OniStatus start() override;
+    /// After stop() returns no push() is running or will send a frame: OpenNI may then free
+    /// what our frame callback points to. OpenNI stops a stream before destroying it.
     void stop() override;
     bool started() const { return started_; }
     OniSensorType sensor() const { return shape_.sensor; }
@@ -32,8 +35,8 @@ class VirtualStream final : public oni::driver::StreamBase {
     OniBool isPropertySupported(int property) override;
     int getRequiredFrameSize() override { return bytes_per_frame(); }
 
-    /// Copies the stream's half of `pair` into an OpenNI frame and hands it to OpenNI.
-    /// False when OpenNI gave no frame buffer (then nothing was sent).
+    /// Copies the stream's half of `pair` into an OpenNI frame and hands it to OpenNI, if the
+    /// stream is started. False when OpenNI gave no frame buffer (then nothing was sent).
     bool push(const FramePair& pair, int frame_index);
 
   private:
@@ -42,6 +45,7 @@ class VirtualStream final : public oni::driver::StreamBase {
 
     StreamShape shape_;
     std::function<void()> on_start_stop_;
+    std::mutex push_mutex_;  // held while a frame is handed to OpenNI; start/stop wait for it
     std::atomic<bool> started_{false};
 };
 
