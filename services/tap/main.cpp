@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
     df::log::set_component("tap");
     CLI::App app{"df_tap: list, echo, hz, bw, delay, record and play DetectFusion topics"};
     app.require_subcommand(1);
+    app.fallthrough();  // --wait, --domain... may follow the subcommand
     df::config::DdsConfig dds;
     std::string transport = "auto";
     uint32_t domain = 0;

@@ -211,7 +211,16 @@ struct OpenNiSource::Impl {
     Status open_streams();
     void set_registration();
     void set_intrinsics();
+
+    enum class Step { kGotFrame, kNothingYet, kLost, kFailed };
+    /// Waits up to `slice_ms` for a frame of whichever stream is still missing and reads it.
+    Step wait_one(VideoFrameRef* color_frame, VideoFrameRef* depth_frame, int slice_ms);
+    /// Same frameIndex when frame sync is on, else stamps within half a frame period.
+    bool same_instant(const VideoFrameRef& color_frame, const VideoFrameRef& depth_frame) const;
     FrameRead fill(const VideoFrameRef& color_frame, const VideoFrameRef& depth_frame);
+    FrameRead bad_frame(const std::string& what) const;
+    FrameRead timed_out(const VideoFrameRef& color_frame, const VideoFrameRef& depth_frame) const;
+    FrameRead ended();
 };
 
 Status OpenNiSource::Impl::open_device() {
@@ -303,12 +312,9 @@ FrameRead OpenNiSource::Impl::fill(const VideoFrameRef& color_frame,
     if (color_frame.getWidth() != w || color_frame.getHeight() != h ||
         color_frame.getVideoMode().getPixelFormat() != openni::PIXEL_FORMAT_RGB888 ||
         depth_frame.getVideoMode().getPixelFormat() != openni::PIXEL_FORMAT_DEPTH_1_MM) {
-        read.kind = FrameRead::Kind::kBadFrame;
-        read.error = "seq=" + std::to_string(frames_returned) +
-                     " OpenNI2 frames do not match: colour " +
-                     mode_text(color_frame.getVideoMode()) + ", depth " +
-                     mode_text(depth_frame.getVideoMode());
-        return read;
+        return bad_frame("OpenNI2 frames do not match: colour " +
+                         mode_text(color_frame.getVideoMode()) + ", depth " +
+                         mode_text(depth_frame.getVideoMode()));
     }
     if (first_frame_index < 0) first_frame_index = depth_frame.getFrameIndex();
     RgbdImage& image = read.image;
@@ -326,6 +332,65 @@ FrameRead OpenNiSource::Impl::fill(const VideoFrameRef& color_frame,
     read.kind = FrameRead::Kind::kFrame;
     ++frames_returned;
     return read;
+}
+
+OpenNiSource::Impl::Step OpenNiSource::Impl::wait_one(VideoFrameRef* color_frame,
+                                                      VideoFrameRef* depth_frame, int slice_ms) {
+    VideoStream* waiting[2];
+    VideoFrameRef* into[2];
+    int count = 0;
+    if (!depth_frame->isValid()) {
+        waiting[count] = &depth;
+        into[count++] = depth_frame;
+    }
+    if (!color_frame->isValid()) {
+        waiting[count] = &color;
+        into[count++] = color_frame;
+    }
+    int ready = -1;
+    const openni::Status rc = OpenNI::waitForAnyStream(waiting, count, &ready, slice_ms);
+    if (rc == openni::STATUS_TIME_OUT) return watch.lost() ? Step::kLost : Step::kNothingYet;
+    if (rc != openni::STATUS_OK || ready < 0 || ready >= count) return Step::kFailed;
+    VideoFrameRef frame;
+    if (waiting[ready]->readFrame(&frame) != openni::STATUS_OK || !frame.isValid()) {
+        return Step::kNothingYet;
+    }
+    *into[ready] = frame;
+    return Step::kGotFrame;
+}
+
+bool OpenNiSource::Impl::same_instant(const VideoFrameRef& color_frame,
+                                      const VideoFrameRef& depth_frame) const {
+    if (synced) return color_frame.getFrameIndex() == depth_frame.getFrameIndex();
+    const uint64_t a = color_frame.getTimestamp(), b = depth_frame.getTimestamp();
+    const uint64_t half_period_us = 500000 / static_cast<uint64_t>(config.fps);
+    return (a > b ? a - b : b - a) <= half_period_us;
+}
+
+FrameRead OpenNiSource::Impl::bad_frame(const std::string& what) const {
+    FrameRead read;
+    read.kind = FrameRead::Kind::kBadFrame;
+    read.error = "seq=" + std::to_string(frames_returned) + " " + what;
+    return read;
+}
+
+FrameRead OpenNiSource::Impl::timed_out(const VideoFrameRef& color_frame,
+                                        const VideoFrameRef& depth_frame) const {
+    const char* missing = !color_frame.isValid() && !depth_frame.isValid() ? "frames"
+                          : depth_frame.isValid()                          ? "colour frame"
+                                                                           : "depth frame";
+    return bad_frame(std::string("no ") + missing + " from OpenNI2 device '" +
+                     device.getDeviceInfo().getUri() + "' within " +
+                     std::to_string(config.timeout_ms) + " ms");
+}
+
+FrameRead OpenNiSource::Impl::ended() {
+    if (!end_logged) {
+        log::info("seq=", frames_returned, " OpenNI2 device '", device.getDeviceInfo().getUri(),
+                  "' disconnected: end of stream");
+        end_logged = true;
+    }
+    return FrameRead{};  // kEnd
 }
 
 OpenNiSource::OpenNiSource(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -369,60 +434,29 @@ FrameRead OpenNiSource::next() {
     using Clock = std::chrono::steady_clock;
     Impl& s = *impl_;
     const auto deadline = Clock::now() + std::chrono::milliseconds(s.config.timeout_ms);
-    const uint64_t half_period_us = 500000 / static_cast<uint64_t>(s.config.fps);
     VideoFrameRef color_frame, depth_frame;
     while (!color_frame.isValid() || !depth_frame.isValid()) {
-        VideoStream* waiting[2];
-        int count = 0;
-        if (!depth_frame.isValid()) waiting[count++] = &s.depth;
-        if (!color_frame.isValid()) waiting[count++] = &s.color;
         const auto left =
             std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
-        if (left.count() <= 0) {
-            FrameRead read;
-            read.kind = FrameRead::Kind::kBadFrame;
-            read.error =
-                "seq=" + std::to_string(s.frames_returned) + " no " +
-                (count == 2 ? "frames" : (depth_frame.isValid() ? "colour frame" : "depth frame")) +
-                " from OpenNI2 device '" + s.device.getDeviceInfo().getUri() + "' within " +
-                std::to_string(s.config.timeout_ms) + " ms";
-            return read;
-        }
-        int ready = -1;
+        if (left.count() <= 0) return s.timed_out(color_frame, depth_frame);
         const int slice_ms = static_cast<int>(std::min<int64_t>(left.count(), kWaitSliceMs));
-        const openni::Status rc = OpenNI::waitForAnyStream(waiting, count, &ready, slice_ms);
-        if (rc == openni::STATUS_TIME_OUT) {
-            if (!s.watch.lost()) continue;
-            if (!s.end_logged) {
-                log::info("seq=", s.frames_returned, " OpenNI2 device '",
-                          s.device.getDeviceInfo().getUri(), "' disconnected: end of stream");
-                s.end_logged = true;
-            }
-            return FrameRead{};  // kEnd
+        switch (s.wait_one(&color_frame, &depth_frame, slice_ms)) {
+            case Impl::Step::kLost:
+                return s.ended();
+            case Impl::Step::kFailed:
+                return s.bad_frame("waiting for OpenNI2 frames failed: " + oni_error());
+            case Impl::Step::kGotFrame:
+            case Impl::Step::kNothingYet:
+                break;
         }
-        if (rc != openni::STATUS_OK || ready < 0 || ready >= count) {
-            FrameRead read;
-            read.kind = FrameRead::Kind::kBadFrame;
-            read.error = "seq=" + std::to_string(s.frames_returned) +
-                         " waiting for OpenNI2 frames failed: " + oni_error();
-            return read;
+        if (color_frame.isValid() && depth_frame.isValid() &&
+            !s.same_instant(color_frame, depth_frame)) {
+            // Drop the older frame and wait for its successor.
+            const bool color_older = s.synced
+                                         ? color_frame.getFrameIndex() < depth_frame.getFrameIndex()
+                                         : color_frame.getTimestamp() < depth_frame.getTimestamp();
+            (color_older ? color_frame : depth_frame).release();
         }
-        VideoFrameRef frame;
-        if (waiting[ready]->readFrame(&frame) != openni::STATUS_OK || !frame.isValid()) continue;
-        (waiting[ready] == &s.depth ? depth_frame : color_frame) = frame;
-        if (!color_frame.isValid() || !depth_frame.isValid()) continue;
-        // A pair must be one instant: same frameIndex when synced, else stamps within half a
-        // frame period. Otherwise drop the older frame and wait for its successor.
-        const bool match =
-            s.synced ? color_frame.getFrameIndex() == depth_frame.getFrameIndex()
-                     : (std::max(color_frame.getTimestamp(), depth_frame.getTimestamp()) -
-                        std::min(color_frame.getTimestamp(), depth_frame.getTimestamp())) <=
-                           half_period_us;
-        if (match) break;
-        const bool color_older = s.synced
-                                     ? color_frame.getFrameIndex() < depth_frame.getFrameIndex()
-                                     : color_frame.getTimestamp() < depth_frame.getTimestamp();
-        (color_older ? color_frame : depth_frame).release();
     }
     return s.fill(color_frame, depth_frame);
 }

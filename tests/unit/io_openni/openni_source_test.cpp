@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -210,6 +211,47 @@ TEST_F(VirtualCameraTest, TimedPlaybackDeliversTrueFramesInOrderThenEnds) {
         ASSERT_LE(received, kFrames);
     }
     EXPECT_GT(received, 0);
+}
+
+TEST_F(VirtualCameraTest, GapLongerThanTheTimeoutIsABadFrameThenPlayGoesOn) {
+    // Four small frames at 30 Hz with a 1 s hole before the last one.
+    const fs::path dir = *root_ / "gap";
+    fs::create_directories(dir);
+    std::ofstream list(dir / "associations.txt");
+    const int64_t stamps_us[] = {0, 33'333, 66'667, 1'066'667};
+    for (int i = 0; i < 4; ++i) {
+        const std::string name = std::to_string(i) + ".png";
+        ASSERT_TRUE(cv::imwrite((dir / ("c" + name)).string(),
+                                cv::Mat(48, 64, CV_8UC3, cv::Scalar::all(i * 10))));
+        ASSERT_TRUE(cv::imwrite((dir / ("d" + name)).string(), cv::Mat(48, 64, CV_16UC1, 5000)));
+        list << seconds_text(stamps_us[i]) << " c" << name << " " << seconds_text(stamps_us[i])
+             << " d" << name << "\n";
+    }
+    list.close();
+    OpenNiConfig c;
+    c.uri = "df-virtual://" + dir.string();
+    c.width = 64;
+    c.height = 48;
+    c.timeout_ms = 300;
+    auto source = OpenNiSource::open(c);
+    ASSERT_TRUE(source.is_ok()) << source.status().to_string();
+    // What a reader sees: colour value per frame (0, 10, 20, 30), -1 per timeout. At the
+    // sequence rate a frame may be lost under load, so check the shape, not every frame.
+    std::vector<int> seen;
+    for (FrameRead read = source.value()->next(); read.kind != FrameRead::Kind::kEnd;
+         read = source.value()->next()) {
+        if (read.kind == FrameRead::Kind::kBadFrame) {
+            EXPECT_NE(read.error.find("within 300 ms"), std::string::npos) << read.error;
+            seen.push_back(-1);
+        } else {
+            EXPECT_EQ(read.image.depth.at<uint16_t>(0, 0), 1000);  // 5000 units = 1 m
+            seen.push_back(read.image.rgb.at<cv::Vec3b>(0, 0)[0]);
+        }
+        ASSERT_LT(seen.size(), 12u);
+    }
+    ASSERT_GE(seen.size(), 2u);
+    EXPECT_EQ(seen.back(), 30) << "the frame after the hole comes last";
+    EXPECT_EQ(seen[seen.size() - 2], -1) << "the hole is reported as a timeout";
 }
 
 TEST_F(VirtualCameraTest, UnknownUriErrorListsTheDevicesFound) {
