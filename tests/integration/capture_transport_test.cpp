@@ -2,6 +2,7 @@
 // arrive intact and, in lockstep, none is lost; a corrupt PNG costs one frame and one error line.
 #include <gtest/gtest.h>
 
+#include <csignal>
 #include <fstream>
 #include <random>
 
@@ -151,6 +152,40 @@ TEST(CaptureBadInput, CorruptPngCostsOneFrameAndOneErrorLine) {
     EXPECT_EQ(errors, 1U) << log;
     EXPECT_NE(log.find(bad), std::string::npos) << "the error must name the file\n" << log;
     EXPECT_NE(log.find("1 bad frames skipped"), std::string::npos) << log;
+}
+
+TEST(CaptureOpenNi, VirtualCameraFramesArriveIntact) {
+    // The live-camera path, without hardware: df_capture opens the project's OpenNI2 driver that
+    // serves a recorded folder as a device (df-virtual://), found through df_capture's RUNPATH.
+    test::TempDir dir;
+    ASSERT_TRUE(test::roudi_available()) << "no RouDi: run through ctest (fixture roudi)";
+    auto frames = make_frames(12, 640, 480);
+    for (auto& f : frames) cv::randu(f.depth, 0, 5000 * 6);  // TUM units; the camera gives mm
+    ASSERT_TRUE(io::write_tum_folder(dir.path() + "/seq", frames).is_ok());
+    std::vector<io::RgbdImage> expected = frames;
+    for (auto& e : expected) {
+        cv::Mat mm;
+        e.depth.convertTo(mm, CV_16UC1, 1000.0 / 5000.0);  // rounds to nearest, as the driver does
+        e.depth = mm;
+    }
+    dds::ParticipantConfig pc;
+    pc.transport = dds::Transport::kSharedMemory;
+    auto p = dds::Participant::create(pc);
+    ASSERT_TRUE(p.is_ok());
+    const std::string ns = test::unique_ns("openni");
+    auto args = capture_args("", ns, "shm", 0);
+    args.erase(args.begin() + 1);  // no folder
+    args.insert(args.end(), {"--set", "source: OPENNI", "--set",
+                             "openni_uri: \"df-virtual://" + dir.path() + "/seq\""});
+    test::ChildProcess capture(args, dir.path() + "/capture.log", {"DF_VIRTUAL_CAMERA_LOCKSTEP=1"});
+    std::vector<int> index(frames.size());
+    for (size_t i = 0; i < index.size(); ++i) index[i] = static_cast<int>(i);
+    // Stamps: the device clock is the sequence's, in microseconds (same as written).
+    const Received got = receive(*p, ns, expected, index, capture);
+    capture.kill(SIGINT);  // a camera never ends by itself: stop it like a user would
+    EXPECT_EQ(capture.wait(20), 0) << capture.output();
+    ASSERT_EQ(got.seqs.size(), frames.size()) << capture.output();
+    EXPECT_EQ(got.intact, static_cast<int>(frames.size())) << capture.output();
 }
 
 TEST(CaptureBadInput, UnreadableFolderFailsAtStartWithAClearMessage) {
