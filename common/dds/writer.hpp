@@ -17,13 +17,17 @@ namespace df::dds {
 template <typename T>
 class Writer;
 
+/// Cyclone 0.10 tracks at most 8 open loans per writer (MAX_PUB_LOANS); a 9th loan could never
+/// be returned and would leak its chunk, so a writer hands out at most this many at once.
+inline constexpr int kMaxOpenLoans = 8;
+
 /// A sample to fill and write. Returned to the writer (unwritten) when destroyed.
 template <typename T>
 class Loan {
 public:
     Loan(Loan&& o) noexcept
         : writer_(std::exchange(o.writer_, 0)), sample_(std::exchange(o.sample_, nullptr)),
-          heap_(std::move(o.heap_)) {}
+          heap_(std::move(o.heap_)), open_(std::exchange(o.open_, nullptr)) {}
     Loan& operator=(Loan&&) = delete;
     Loan(const Loan&) = delete;
     ~Loan() {
@@ -31,6 +35,7 @@ public:
             void* p = sample_;
             dds_return_loan(writer_, &p, 1);
         }
+        release();
     }
     T* get() { return sample_; }
     T& operator*() { return *sample_; }
@@ -40,11 +45,16 @@ public:
 
 private:
     friend class Writer<T>;
-    Loan(dds_entity_t writer, T* shm_sample) : writer_(writer), sample_(shm_sample) {}
+    Loan(dds_entity_t writer, T* shm_sample, int* open) : writer_(writer), sample_(shm_sample), open_(open) {}
     explicit Loan(std::unique_ptr<T> heap) : sample_(heap.get()), heap_(std::move(heap)) {}
+    void release() {
+        if (open_ != nullptr) --*open_;
+        open_ = nullptr;
+    }
     dds_entity_t writer_ = 0;
     T* sample_ = nullptr;
     std::unique_ptr<T> heap_;
+    int* open_ = nullptr;  // the writer's count of open shared-memory loans
 };
 
 template <typename T>
@@ -59,12 +69,16 @@ public:
     }
 
     /// A sample to fill. Falls back to a heap sample when no shared-memory chunk is available
-    /// (pool exhausted or loans not possible); never aborts.
+    /// (pool exhausted, kMaxOpenLoans open, or loans not possible); never aborts.
+    /// Not thread-safe: one thread per writer.
     Result<Loan<T>> loan() {
         if (loans_) {
             void* p = nullptr;
-            const dds_return_t rc = dds_loan_sample(writer_.get(), &p);
-            if (rc == DDS_RETCODE_OK && p != nullptr) return Loan<T>(writer_.get(), static_cast<T*>(p));
+            if (*open_loans_ < kMaxOpenLoans && dds_loan_sample(writer_.get(), &p) == DDS_RETCODE_OK &&
+                p != nullptr) {
+                ++*open_loans_;
+                return Loan<T>(writer_.get(), static_cast<T*>(p), open_loans_.get());
+            }
             ++loan_failures_;
         }
         auto heap = std::make_unique<T>();
@@ -78,6 +92,7 @@ public:
         if (l.sample_ == nullptr) return Status(StatusCode::kInvalidArgument, "write of an empty loan");
         const dds_return_t rc = dds_write(writer_.get(), l.sample_);
         if (!l.heap_) l.sample_ = nullptr;  // ownership passed to DDS (also on error, as Cyclone frees it)
+        l.release();
         return check(rc, "writing to '" + topic_ + "'");
     }
 
@@ -99,6 +114,7 @@ private:
     std::string topic_;
     bool loans_ = false;
     uint64_t loan_failures_ = 0;
+    std::unique_ptr<int> open_loans_ = std::make_unique<int>(0);  // stable address for Loans
 };
 
 }  // namespace df::dds
