@@ -39,8 +39,11 @@ fi
 
 # npm packages used by tests (an independent MCAP reader) live under tests/js.
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-if [ -f "$here/tests/js/package.json" ] && [ ! -d "$here/tests/js/node_modules/@mcap/core" ]; then
-  echo "[setup] installing npm packages for tests/js"
-  (cd "$here/tests/js" && npm install --no-audit --no-fund --loglevel=error)
+# Reinstalled whenever package-lock.json changes (exact versions, no scripts run).
+js="$here/tests/js"
+if [ -f "$js/package-lock.json" ] && ! cmp -s "$js/package-lock.json" "$js/node_modules/.df-installed-lock"; then
+  echo "[setup] installing npm packages for tests/js (@mcap/core, @foxglove/omgidl-*)"
+  (cd "$js" && npm ci --ignore-scripts --no-audit --no-fund --loglevel=error)
+  cp "$js/package-lock.json" "$js/node_modules/.df-installed-lock"
 fi
 echo "[setup] done"
