@@ -188,6 +188,30 @@ TEST(CaptureOpenNi, VirtualCameraFramesArriveIntact) {
     EXPECT_EQ(got.intact, static_cast<int>(frames.size())) << capture.output();
 }
 
+TEST(CaptureBadInput, MalformedListLineIsNamedAndTheRunGoesOn) {
+    test::TempDir dir;
+    ASSERT_TRUE(test::roudi_available()) << "no RouDi: run through ctest (fixture roudi)";
+    const auto frames = make_frames(6, 320, 240);
+    const std::string seq = dir.path() + "/seq";
+    ASSERT_TRUE(io::write_tum_folder(seq, frames).is_ok());
+    { std::ofstream(seq + "/associations.txt", std::ios::app) << "1.5 rgb/x.png not-a-stamp depth/x.png\n"; }
+    dds::ParticipantConfig pc;
+    pc.transport = dds::Transport::kSharedMemory;
+    auto p = dds::Participant::create(pc);
+    ASSERT_TRUE(p.is_ok());
+    const std::string ns = test::unique_ns("badline");
+    test::ChildProcess capture(capture_args(seq, ns, "shm", 0), dir.path() + "/capture.log");
+    const std::vector<int> index = {0, 1, 2, 3, 4, 5};
+    const Received got = receive(*p, ns, frames, index, capture);
+    EXPECT_EQ(capture.wait(30), 0);
+    EXPECT_EQ(got.intact, 6);
+    const std::string log = capture.output();
+    size_t errors = 0;
+    for (size_t pos = log.find("[error]"); pos != std::string::npos; pos = log.find("[error]", pos + 1)) ++errors;
+    EXPECT_EQ(errors, 1U) << log;
+    EXPECT_NE(log.find("associations.txt:7"), std::string::npos) << "the error must name file and line\n" << log;
+}
+
 TEST(CaptureBadInput, UnreadableFolderFailsAtStartWithAClearMessage) {
     test::TempDir dir;
     test::ChildProcess capture({test::bin_dir() + "/df_capture", dir.path() + "/does-not-exist"},

@@ -2,7 +2,10 @@
 # Capture under the supervisor: RouDi starts first; tap hz shows the sequence's 30 Hz; tap list
 # and echo see the topic; a killed capture is restarted; down stops the services, RouDi last.
 source "$(dirname "$0")/lib.sh"
-roudi_running && fail "a RouDi is already running on this machine; this test starts its own under dfsup"
+if roudi_running; then
+  echo "SKIP: a RouDi is already running on this machine; this test needs to start its own under dfsup"
+  exit 77
+fi
 "$BIN/df_make_demo_data" --out "$TMP/seq" --frames 30 >/dev/null 2>&1
 cat > "$TMP/pipeline.pbtxt" <<PB
 name: "supervisor-test"

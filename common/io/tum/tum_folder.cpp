@@ -14,7 +14,6 @@
 #include <sstream>
 #include <utility>
 
-#include "core/log.hpp"
 
 namespace df::io {
 namespace fs = std::filesystem;
@@ -436,7 +435,6 @@ Result<std::unique_ptr<TumFolderSource>> TumFolderSource::open(const TumFolderCo
         }
         return error(StatusCode::kInvalidArgument, message);
     }
-    for (const std::string& e : errors) log::warn("skipping malformed line ", e);
 
     std::unique_ptr<TumFolderSource> source(
         new TumFolderSource(config, std::move(pairs), std::move(errors)));
