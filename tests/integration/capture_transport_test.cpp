@@ -31,6 +31,12 @@ std::vector<io::RgbdImage> make_frames(int n, int w, int h) {
     return frames;
 }
 
+size_t count_lines_with(const std::string& text, const std::string& what) {
+    size_t n = 0;
+    for (size_t pos = text.find(what); pos != std::string::npos; pos = text.find(what, pos + 1)) ++n;
+    return n;
+}
+
 struct Received {
     std::vector<uint64_t> seqs;
     int intact = 0;
@@ -147,9 +153,7 @@ TEST(CaptureBadInput, CorruptPngCostsOneFrameAndOneErrorLine) {
     EXPECT_EQ(got.seqs.size(), index.size());
     EXPECT_EQ(got.intact, static_cast<int>(index.size()));
     const std::string log = capture.output();
-    size_t errors = 0;
-    for (size_t pos = log.find("[error]"); pos != std::string::npos; pos = log.find("[error]", pos + 1)) ++errors;
-    EXPECT_EQ(errors, 1U) << log;
+    EXPECT_EQ(count_lines_with(log, "[error]"), 1U) << log;
     EXPECT_NE(log.find(bad), std::string::npos) << "the error must name the file\n" << log;
     EXPECT_NE(log.find("1 bad frames skipped"), std::string::npos) << log;
 }
@@ -206,9 +210,7 @@ TEST(CaptureBadInput, MalformedListLineIsNamedAndTheRunGoesOn) {
     EXPECT_EQ(capture.wait(30), 0);
     EXPECT_EQ(got.intact, 6);
     const std::string log = capture.output();
-    size_t errors = 0;
-    for (size_t pos = log.find("[error]"); pos != std::string::npos; pos = log.find("[error]", pos + 1)) ++errors;
-    EXPECT_EQ(errors, 1U) << log;
+    EXPECT_EQ(count_lines_with(log, "[error]"), 1U) << log;
     EXPECT_NE(log.find("associations.txt:7"), std::string::npos) << "the error must name file and line\n" << log;
 }
 

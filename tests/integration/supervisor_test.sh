@@ -24,18 +24,18 @@ grep -n "spawned: 'roudi'" "$log" >/dev/null || fail "RouDi was not started"
 [ "$(grep -n "spawned:" "$log" | head -1 | grep -c roudi)" = 1 ] || fail "RouDi was not started first"
 pass "RouDi started first"
 
-hz=$("$BIN/df_tap" hz "$NS/frames" --duration 4 2>"$TMP/hz.err" | grep "average rate" | tail -1 | awk '{print $3}')
+hz=$(timeout 60 "$BIN/df_tap" hz "$NS/frames" --duration 4 2>"$TMP/hz.err" | grep "average rate" | tail -1 | awk '{print $3}') || true
 [ -n "$hz" ] || fail "tap hz printed no rate: $(cat "$TMP/hz.err")"
 awk -v r="$hz" 'BEGIN { exit !(r > 25 && r < 35) }' || fail "tap hz shows $hz Hz, expected the sequence's 30 Hz"
 pass "tap hz shows $hz Hz"
 
-"$BIN/df_tap" list --wait 2 2>/dev/null > "$TMP/list.txt"
+timeout 60 "$BIN/df_tap" list --wait 2 2>"$TMP/list.err" > "$TMP/list.txt" || fail "tap list: $(tail -5 "$TMP/list.err")"
 entry=$(grep -A3 "^$NS/frames" "$TMP/list.txt" || true)
 [[ "$entry" == *"type: df::msg::RgbdFrame"* ]] || fail "tap list: $(cat "$TMP/list.txt")"
 [[ "$entry" == *"df_capture"* ]] || fail "tap list names no capture writer: $entry"
 pass "tap list shows $NS/frames with its writer"
 
-"$BIN/df_tap" echo "$NS/frames" -n 1 2>/dev/null > "$TMP/echo.txt"
+timeout 60 "$BIN/df_tap" echo "$NS/frames" -n 1 2>"$TMP/echo.err" > "$TMP/echo.txt" || fail "tap echo: $(tail -5 "$TMP/echo.err")"
 grep -q "^width: 640" "$TMP/echo.txt" && grep -q "^  seq: " "$TMP/echo.txt" || fail "tap echo: $(head -20 "$TMP/echo.txt")"
 pass "tap echo prints a frame header"
 
@@ -49,7 +49,8 @@ done
 [ -n "${new:-}" ] && [ "$new" != "$pid" ] || fail "capture was not restarted after kill -9 ($($SUP status))"
 grep -q "exited: capture (terminated by SIGKILL; not expected)" "$log" || fail "no crash in supervisord log"
 pass "capture killed (pid $pid) and restarted (pid $new)"
-after=$("$BIN/df_tap" hz "$NS/frames" --duration 2 2>/dev/null)
+after=$(timeout 60 "$BIN/df_tap" hz "$NS/frames" --wait 15 --duration 2 2>"$TMP/hz2.err") \
+  || fail "tap hz after the restart exited with $?: $(tail -5 "$TMP/hz2.err")"
 [[ "$after" == *"average rate"* ]] || fail "no frames after restart: $after"
 pass "frames flow again after the restart"
 

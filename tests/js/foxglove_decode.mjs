@@ -12,12 +12,12 @@
 // (uint64 as decimal strings) and, for df::msg::RgbdFrame, image size, intrinsics and sha256 of
 // the used part of rgb (width*height*3 bytes) and depth (width*height uint16, little endian).
 // Fails (exit 1, reason on stderr) on any schema that Foxglove would reject or any decode error.
-import { createHash } from "node:crypto";
 import { open } from "node:fs/promises";
 
 import { parseIDL } from "@foxglove/omgidl-parser";
 import { MessageReader, MessageWriter } from "@foxglove/omgidl-serialization";
 import { McapIndexedReader } from "@mcap/core";
+import { FileReadable, sha256 } from "./file_readable.mjs";
 
 function fail(message) {
   // nearley syntax errors go on to list every expected token; the first lines say what is wrong
@@ -26,27 +26,6 @@ function fail(message) {
   process.exit(1);
 }
 
-const sha256 = (bytes) => createHash("sha256").update(bytes).digest("hex");
-
-/** IReadable over an open file handle, for McapIndexedReader (as in mcap_dump.mjs). */
-class FileReadable {
-  constructor(handle) {
-    this.handle = handle;
-  }
-  async size() {
-    return BigInt((await this.handle.stat()).size);
-  }
-  async read(offset, size) {
-    const buffer = new Uint8Array(Number(size));
-    for (let done = 0; done < buffer.length; ) {
-      const position = Number(offset) + done;
-      const { bytesRead } = await this.handle.read(buffer, done, buffer.length - done, position);
-      if (bytesRead === 0) throw new Error(`unexpected end of file at byte ${position}`);
-      done += bytesRead;
-    }
-    return buffer;
-  }
-}
 
 /** Foxglove's parseChannel, `cdr` + `omgidl` branch, plus a writer for the round-trip check. */
 function parseChannel(channel, schema) {

@@ -9,37 +9,16 @@
 // order, channel, sequence, times and the sha256 of its data. uint64 values (times, counts) are
 // printed as decimal strings because JSON numbers cannot hold them exactly.
 // Only uncompressed chunks are supported (no zstd/lz4 decompressor is installed).
-import { createHash } from "node:crypto";
 import { open } from "node:fs/promises";
 
 import { McapIndexedReader, McapStreamReader } from "@mcap/core";
+import { FileReadable, sha256 } from "./file_readable.mjs";
 
 function fail(message) {
   process.stderr.write(`mcap_dump: ${message}\n`);
   process.exit(1);
 }
 
-const sha256 = (bytes) => createHash("sha256").update(bytes).digest("hex");
-
-/** IReadable over an open file handle, for McapIndexedReader. */
-class FileReadable {
-  constructor(handle) {
-    this.handle = handle;
-  }
-  async size() {
-    return BigInt((await this.handle.stat()).size);
-  }
-  async read(offset, size) {
-    const buffer = new Uint8Array(Number(size));
-    for (let done = 0; done < buffer.length; ) {
-      const position = Number(offset) + done;
-      const { bytesRead } = await this.handle.read(buffer, done, buffer.length - done, position);
-      if (bytesRead === 0) throw new Error(`unexpected end of file at byte ${position}`);
-      done += bytesRead;
-    }
-    return buffer;
-  }
-}
 
 const describeSchema = (s) => ({
   id: s.id,
