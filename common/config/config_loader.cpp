@@ -1,10 +1,10 @@
 #include "config/config_loader.hpp"
 
-#include <fstream>
-#include <sstream>
-
 #include <google/protobuf/io/tokenizer.h>
 #include <google/protobuf/text_format.h>
+
+#include <fstream>
+#include <sstream>
 
 namespace df::config {
 namespace {
@@ -14,7 +14,7 @@ using google::protobuf::Message;
 using google::protobuf::Reflection;
 
 class Collector : public google::protobuf::io::ErrorCollector {
-public:
+  public:
     explicit Collector(std::string where) : where_(std::move(where)) {}
     void AddError(int line, google::protobuf::io::ColumnNumber column,
                   const std::string& message) override {
@@ -24,7 +24,7 @@ public:
     }
     const std::string& errors() const { return errors_; }
 
-private:
+  private:
     std::string where_;
     std::string errors_;
 };

@@ -1,10 +1,10 @@
 #pragma once
 /// Service configuration: a protobuf message read from a text-format file, then overridden by
 /// "--set 'field: value'" flags (any field, text format), and logged in full at start.
+#include <google/protobuf/message.h>
+
 #include <string>
 #include <vector>
-
-#include <google/protobuf/message.h>
 
 #include "core/status.hpp"
 

@@ -17,9 +17,12 @@ struct State {
     State() {
         if (const char* env = std::getenv("DF_LOG_LEVEL")) {
             std::string v(env);
-            if (v == "debug") level = Level::kDebug;
-            else if (v == "warn") level = Level::kWarn;
-            else if (v == "error") level = Level::kError;
+            if (v == "debug")
+                level = Level::kDebug;
+            else if (v == "warn")
+                level = Level::kWarn;
+            else if (v == "error")
+                level = Level::kError;
         }
     }
 };
@@ -31,10 +34,14 @@ State& state() {
 
 const char* name(Level l) {
     switch (l) {
-        case Level::kDebug: return "debug";
-        case Level::kInfo: return "info";
-        case Level::kWarn: return "warn";
-        case Level::kError: return "error";
+        case Level::kDebug:
+            return "debug";
+        case Level::kInfo:
+            return "info";
+        case Level::kWarn:
+            return "warn";
+        case Level::kError:
+            return "error";
     }
     return "?";
 }
@@ -52,7 +59,8 @@ void write(Level l, const std::string& message) {
     using namespace std::chrono;
     const auto now = system_clock::now();
     const std::time_t t = system_clock::to_time_t(now);
-    const int ms = static_cast<int>(duration_cast<milliseconds>(now.time_since_epoch()).count() % 1000);
+    const int ms =
+        static_cast<int>(duration_cast<milliseconds>(now.time_since_epoch()).count() % 1000);
     std::tm tm{};
     localtime_r(&t, &tm);
     char stamp[32];

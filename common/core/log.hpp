@@ -26,12 +26,20 @@ std::string join(const Args&... args) {
 }  // namespace detail
 
 template <typename... Args>
-void debug(const Args&... a) { if (level() <= Level::kDebug) write(Level::kDebug, detail::join(a...)); }
+void debug(const Args&... a) {
+    if (level() <= Level::kDebug) write(Level::kDebug, detail::join(a...));
+}
 template <typename... Args>
-void info(const Args&... a) { if (level() <= Level::kInfo) write(Level::kInfo, detail::join(a...)); }
+void info(const Args&... a) {
+    if (level() <= Level::kInfo) write(Level::kInfo, detail::join(a...));
+}
 template <typename... Args>
-void warn(const Args&... a) { if (level() <= Level::kWarn) write(Level::kWarn, detail::join(a...)); }
+void warn(const Args&... a) {
+    if (level() <= Level::kWarn) write(Level::kWarn, detail::join(a...));
+}
 template <typename... Args>
-void error(const Args&... a) { write(Level::kError, detail::join(a...)); }
+void error(const Args&... a) {
+    write(Level::kError, detail::join(a...));
+}
 
 }  // namespace df::log

@@ -4,15 +4,24 @@ namespace df {
 
 const char* to_string(StatusCode code) {
     switch (code) {
-        case StatusCode::kOk: return "ok";
-        case StatusCode::kInvalidArgument: return "invalid argument";
-        case StatusCode::kNotFound: return "not found";
-        case StatusCode::kIoError: return "I/O error";
-        case StatusCode::kUnavailable: return "unavailable";
-        case StatusCode::kTimeout: return "timeout";
-        case StatusCode::kResourceExhausted: return "resource exhausted";
-        case StatusCode::kEndOfStream: return "end of stream";
-        case StatusCode::kInternal: return "internal error";
+        case StatusCode::kOk:
+            return "ok";
+        case StatusCode::kInvalidArgument:
+            return "invalid argument";
+        case StatusCode::kNotFound:
+            return "not found";
+        case StatusCode::kIoError:
+            return "I/O error";
+        case StatusCode::kUnavailable:
+            return "unavailable";
+        case StatusCode::kTimeout:
+            return "timeout";
+        case StatusCode::kResourceExhausted:
+            return "resource exhausted";
+        case StatusCode::kEndOfStream:
+            return "end of stream";
+        case StatusCode::kInternal:
+            return "internal error";
     }
     return "unknown";
 }

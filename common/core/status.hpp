@@ -23,7 +23,7 @@ enum class StatusCode {
 const char* to_string(StatusCode code);
 
 class [[nodiscard]] Status {
-public:
+  public:
     Status() = default;
     Status(StatusCode code, std::string message) : code_(code), message_(std::move(message)) {}
     static Status ok() { return {}; }
@@ -37,7 +37,7 @@ public:
     /// Returns this status with "context: " put before the message.
     Status with_context(const std::string& context) const;
 
-private:
+  private:
     StatusCode code_ = StatusCode::kOk;
     std::string message_;
 };
@@ -46,7 +46,7 @@ inline Status error(StatusCode code, std::string message) { return {code, std::m
 
 template <typename T>
 class [[nodiscard]] Result {
-public:
+  public:
     Result(T value) : value_(std::move(value)) {}  // NOLINT: implicit by design
     Result(Status status) : status_(std::move(status)) {
         if (status_.is_ok()) status_ = Status(StatusCode::kInternal, "Result built from ok status");
@@ -63,15 +63,15 @@ public:
     const T& operator*() const& { return *value_; }
     T&& operator*() && { return std::move(*value_); }
 
-private:
+  private:
     std::optional<T> value_;
     Status status_;
 };
 
 }  // namespace df
 
-#define DF_RETURN_IF_ERROR(expr)                 \
-    do {                                         \
-        ::df::Status df_status_ = (expr);        \
+#define DF_RETURN_IF_ERROR(expr)                    \
+    do {                                            \
+        ::df::Status df_status_ = (expr);           \
         if (!df_status_.is_ok()) return df_status_; \
     } while (0)

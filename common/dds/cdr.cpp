@@ -1,9 +1,9 @@
 #include "dds/cdr.hpp"
 
+#include <dds/ddsi/ddsi_cdrstream.h>
+
 #include <cstring>
 #include <string>
-
-#include <dds/ddsi/ddsi_cdrstream.h>
 
 namespace df::dds {
 namespace {
@@ -24,7 +24,8 @@ std::vector<uint8_t> to_cdr(const dds_topic_descriptor_t* desc, const void* samp
     return out;
 }
 
-Status from_cdr(const dds_topic_descriptor_t* desc, const uint8_t* data, size_t size, void* sample) {
+Status from_cdr(const dds_topic_descriptor_t* desc, const uint8_t* data, size_t size,
+                void* sample) {
     if (size < 4) {
         return Status(StatusCode::kInvalidArgument, "CDR sample of " + std::to_string(size) +
                                                         " bytes is shorter than its 4-byte header");

@@ -1,10 +1,10 @@
 #pragma once
 /// CDR (de)serialization of any topic type, as recorded in MCAP files: the 4-byte
 /// encapsulation header {0x00, 0x01, 0, 0} (CDR, little endian, XCDR1) followed by the data.
+#include <dds/dds.h>
+
 #include <cstdint>
 #include <vector>
-
-#include <dds/dds.h>
 
 #include "core/status.hpp"
 

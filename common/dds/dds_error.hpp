@@ -1,8 +1,8 @@
 #pragma once
 /// The one place that turns Cyclone DDS return codes into df::Status.
-#include <string>
-
 #include <dds/dds.h>
+
+#include <string>
 
 #include "core/status.hpp"
 

@@ -10,7 +10,8 @@ namespace {
 
 Result<dds_entity_t> make_topic(const Participant& participant, const dds_topic_descriptor_t* desc,
                                 const std::string& topic) {
-    const dds_entity_t t = dds_create_topic(participant.get(), desc, topic.c_str(), nullptr, nullptr);
+    const dds_entity_t t =
+        dds_create_topic(participant.get(), desc, topic.c_str(), nullptr, nullptr);
     if (t < 0) {
         return check(t, "creating topic '" + topic + "' of type " + desc->m_typename);
     }
@@ -29,10 +30,10 @@ Result<Entity> create_writer(const Participant& participant, const dds_topic_des
     if (w < 0) return check(w, "creating writer on '" + topic + "'");
     const bool shm = dds_is_shared_memory_available(w);
     const bool loan = options.allow_loans && dds_is_loan_available(w);
-    log::info("writer ", topic, " (", desc->m_typename, ", qos ", to_string(options.profile),
-              "): ", loan ? "shared memory, loaned samples (zero-copy)"
-                          : shm ? "shared memory, samples copied in"
-                                : "network (UDP), samples serialized");
+    log::info("writer ", topic, " (", desc->m_typename, ", qos ", to_string(options.profile), "): ",
+              loan  ? "shared memory, loaned samples (zero-copy)"
+              : shm ? "shared memory, samples copied in"
+                    : "network (UDP), samples serialized");
     return Entity(w);
 }
 
@@ -68,10 +69,11 @@ Status wait_for_matches(dds_entity_t endpoint, bool is_writer, uint32_t n, dds_d
         const uint32_t have = is_writer ? matched_readers(endpoint) : matched_writers(endpoint);
         if (have >= n) return Status::ok();
         if (dds_time() >= deadline) {
-            return Status(StatusCode::kTimeout,
-                          std::string("waited ") + std::to_string(timeout / DDS_NSECS_IN_MSEC) +
-                              " ms for " + std::to_string(n) + (is_writer ? " reader(s)" : " writer(s)") +
-                              ", found " + std::to_string(have));
+            return Status(StatusCode::kTimeout, std::string("waited ") +
+                                                    std::to_string(timeout / DDS_NSECS_IN_MSEC) +
+                                                    " ms for " + std::to_string(n) +
+                                                    (is_writer ? " reader(s)" : " writer(s)") +
+                                                    ", found " + std::to_string(have));
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }

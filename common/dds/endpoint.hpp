@@ -1,9 +1,9 @@
 #pragma once
 /// Untyped building blocks of the typed Writer<T>/Reader<T>: topic, writer and reader creation
 /// with the project's QoS, and the log line that says which path (loan / copy / network) is used.
-#include <string>
-
 #include <dds/ddsc/dds_loan_api.h>
+
+#include <string>
 
 #include "dds/entity.hpp"
 #include "dds/participant.hpp"
@@ -13,8 +13,8 @@ namespace df::dds {
 
 struct EndpointOptions {
     QosProfile profile = QosProfile::kResults;
-    int32_t depth = 0;         ///< history depth; 0 = the profile's default
-    bool allow_loans = true;   ///< writers: loan from shared memory when possible
+    int32_t depth = 0;                  ///< history depth; 0 = the profile's default
+    bool allow_loans = true;            ///< writers: loan from shared memory when possible
     dds_duration_t latency_budget = 0;  ///< > 0 lets local shm delivery go before remote sends
 };
 

@@ -1,13 +1,13 @@
 #pragma once
 /// RAII owner of one DDS entity handle: deleted (with its children) when the owner goes.
-#include <utility>
-
 #include <dds/dds.h>
+
+#include <utility>
 
 namespace df::dds {
 
 class Entity {
-public:
+  public:
     Entity() = default;
     explicit Entity(dds_entity_t handle) : handle_(handle) {}
     ~Entity() { reset(); }
@@ -28,7 +28,7 @@ public:
         handle_ = 0;
     }
 
-private:
+  private:
     dds_entity_t handle_ = 0;
 };
 

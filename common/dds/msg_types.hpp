@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "df_msgs.h"
 #include "dds/qos.hpp"
+#include "df_msgs.h"
 
 namespace df::dds {
 
@@ -25,12 +25,12 @@ const TypeInfo* find_type(const std::string& type_name);
 template <typename T>
 struct MsgTraits;
 
-#define DF_DECLARE_MSG(T, PROFILE)                                                         \
-    template <>                                                                            \
-    struct MsgTraits<df_msg_##T> {                                                         \
-        static const dds_topic_descriptor_t* descriptor() { return &df_msg_##T##_desc; }  \
-        static constexpr const char* kName = "df::msg::" #T;                               \
-        static constexpr QosProfile kProfile = QosProfile::PROFILE;                       \
+#define DF_DECLARE_MSG(T, PROFILE)                                                       \
+    template <>                                                                          \
+    struct MsgTraits<df_msg_##T> {                                                       \
+        static const dds_topic_descriptor_t* descriptor() { return &df_msg_##T##_desc; } \
+        static constexpr const char* kName = "df::msg::" #T;                             \
+        static constexpr QosProfile kProfile = QosProfile::PROFILE;                      \
     };
 
 DF_DECLARE_MSG(RgbdFrame, kFrames)

@@ -21,9 +21,12 @@ Result<Transport> parse_transport(const std::string& text) {
 
 const char* to_string(Transport t) {
     switch (t) {
-        case Transport::kAuto: return "auto";
-        case Transport::kSharedMemory: return "shm";
-        case Transport::kUdp: return "udp";
+        case Transport::kAuto:
+            return "auto";
+        case Transport::kSharedMemory:
+            return "shm";
+        case Transport::kUdp:
+            return "udp";
     }
     return "?";
 }
@@ -85,7 +88,8 @@ Result<Participant> Participant::create(const ParticipantConfig& config) {
     if (p < 0) {
         return check(p, "creating DDS participant in domain " + std::to_string(config.domain_id));
     }
-    log::info("DDS: participant in domain ", config.domain_id, ", transport ", to_string(effective));
+    log::info("DDS: participant in domain ", config.domain_id, ", transport ",
+              to_string(effective));
     return Participant(std::move(domain), Entity(p), effective);
 }
 

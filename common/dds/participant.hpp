@@ -24,7 +24,8 @@ const char* to_string(Transport t);
 struct ParticipantConfig {
     uint32_t domain_id = 0;
     Transport transport = Transport::kAuto;
-    /// Extra Cyclone XML put inside <Domain> (e.g. <General><Interfaces>..., <Discovery><Peers>...).
+    /// Extra Cyclone XML put inside <Domain> (e.g. <General><Interfaces>...,
+    /// <Discovery><Peers>...).
     std::string extra_xml;
     /// Lock file RouDi holds while it runs (iceoryx 2.0).
     std::string roudi_lock_file = "/tmp/roudi.lock";
@@ -34,15 +35,16 @@ struct ParticipantConfig {
 bool roudi_running(const std::string& lock_file = "/tmp/roudi.lock");
 
 class Participant {
-public:
+  public:
     static Result<Participant> create(const ParticipantConfig& config);
 
     dds_entity_t get() const { return participant_.get(); }
-    /// The transport in effect: kSharedMemory or kUdp (kAuto when the user's CYCLONEDDS_URI decides).
+    /// The transport in effect: kSharedMemory or kUdp (kAuto when the user's CYCLONEDDS_URI
+    /// decides).
     Transport transport() const { return transport_; }
     bool shared_memory_enabled() const { return transport_ == Transport::kSharedMemory; }
 
-private:
+  private:
     Participant(Entity domain, Entity participant, Transport t)
         : domain_(std::move(domain)), participant_(std::move(participant)), transport_(t) {}
     // Declared first, destroyed last: the participant goes before its domain.

@@ -7,9 +7,15 @@ QosPtr make_qos(QosProfile profile, int32_t depth) {
     int32_t default_depth = 16;
     dds_reliability_kind_t reliability = DDS_RELIABILITY_RELIABLE;
     switch (profile) {
-        case QosProfile::kFrames: default_depth = 4; break;
-        case QosProfile::kResults: default_depth = 16; break;
-        case QosProfile::kStatus: default_depth = 64; break;
+        case QosProfile::kFrames:
+            default_depth = 4;
+            break;
+        case QosProfile::kResults:
+            default_depth = 16;
+            break;
+        case QosProfile::kStatus:
+            default_depth = 64;
+            break;
         case QosProfile::kTap:
             default_depth = 16;
             reliability = DDS_RELIABILITY_BEST_EFFORT;
@@ -25,10 +31,14 @@ QosPtr make_qos(QosProfile profile, int32_t depth) {
 
 const char* to_string(QosProfile profile) {
     switch (profile) {
-        case QosProfile::kFrames: return "frames";
-        case QosProfile::kResults: return "results";
-        case QosProfile::kStatus: return "status";
-        case QosProfile::kTap: return "tap";
+        case QosProfile::kFrames:
+            return "frames";
+        case QosProfile::kResults:
+            return "results";
+        case QosProfile::kStatus:
+            return "status";
+        case QosProfile::kTap:
+            return "tap";
     }
     return "?";
 }

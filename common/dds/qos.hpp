@@ -9,9 +9,9 @@
 ///              medium, every one matters to the join.
 ///  - kStatus:  RELIABLE, depth 64. Stage status/acks; tiny, must not be lost.
 ///  - kTap:     BEST_EFFORT, depth 16, for debugging readers: matches any writer.
-#include <memory>
-
 #include <dds/dds.h>
+
+#include <memory>
 
 namespace df::dds {
 

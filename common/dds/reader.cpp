@@ -1,10 +1,10 @@
 #include "dds/reader.hpp"
 
-#include <cstring>
-#include <vector>
-
 #include <dds/ddsi/ddsi_serdata.h>
 #include <dds/ddsi/ddsi_shm_transport.h>
+
+#include <cstring>
+#include <vector>
 
 #include "dds/dds_error.hpp"
 
@@ -18,7 +18,9 @@ struct Scratch {
     explicit Scratch(size_t size) : bytes((size + 15) / 16) {}
     void* get() { return bytes.data(); }
     void clear() { std::memset(bytes.data(), 0, bytes.size() * 16); }
-    struct alignas(16) Block { unsigned char b[16]; };
+    struct alignas(16) Block {
+        unsigned char b[16];
+    };
     std::vector<Block> bytes;
 };
 
@@ -53,7 +55,8 @@ Result<int> take_zero_copy(dds_entity_t reader, const dds_topic_descriptor_t* de
 Result<int> take_loaned(dds_entity_t reader, int max, const SampleVisitor& visit) {
     void* samples[kMaxBatch] = {};
     dds_sample_info_t infos[kMaxBatch];
-    const int n = dds_take(reader, samples, infos, static_cast<size_t>(max), static_cast<uint32_t>(max));
+    const int n =
+        dds_take(reader, samples, infos, static_cast<size_t>(max), static_cast<uint32_t>(max));
     if (n < 0) return check(n, "taking samples");
     int visited = 0;
     for (int i = 0; i < n; ++i) {

@@ -25,7 +25,7 @@ Result<int> take_samples(dds_entity_t reader, const dds_topic_descriptor_t* desc
 
 template <typename T>
 class Reader {
-public:
+  public:
     static Result<Reader> create(const Participant& participant, const std::string& topic,
                                  EndpointOptions options = {MsgTraits<T>::kProfile},
                                  ReadMode mode = ReadMode::kZeroCopy) {
@@ -47,7 +47,7 @@ public:
     const std::string& topic() const { return topic_; }
     uint32_t matched_writers() const { return dds::matched_writers(reader_.get()); }
 
-private:
+  private:
     Reader(Entity r, std::string topic, ReadMode mode)
         : reader_(std::move(r)), topic_(std::move(topic)), mode_(mode) {}
     Entity reader_;

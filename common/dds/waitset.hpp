@@ -8,7 +8,7 @@
 namespace df::dds {
 
 class WaitSet {
-public:
+  public:
     static Result<WaitSet> create(const Participant& participant);
 
     /// Wakes wait() when the reader has samples not yet taken.
@@ -19,7 +19,7 @@ public:
     /// Wakes a waiting thread (thread-safe; not async-signal-safe).
     void wake();
 
-private:
+  private:
     WaitSet(Entity ws, Entity guard) : waitset_(std::move(ws)), guard_(std::move(guard)) {}
     Entity waitset_;
     Entity guard_;

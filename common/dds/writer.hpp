@@ -2,13 +2,14 @@
 /// Typed writer. A sample is obtained as a Loan: from iceoryx shared memory when the topic can
 /// be loaned (fixed-size type, shm transport, compatible QoS), else from a heap buffer that is
 /// copied on write. Either way the caller fills the sample in place and calls write().
+#include <dds/ddsc/dds_loan_api.h>
+
 #include <cstring>
 #include <memory>
 #include <string>
 #include <utility>
 
 #include "dds/dds_error.hpp"
-#include <dds/ddsc/dds_loan_api.h>
 #include "dds/endpoint.hpp"
 #include "dds/msg_types.hpp"
 
@@ -24,10 +25,12 @@ inline constexpr int kMaxOpenLoans = 8;
 /// A sample to fill and write. Returned to the writer (unwritten) when destroyed.
 template <typename T>
 class Loan {
-public:
+  public:
     Loan(Loan&& o) noexcept
-        : writer_(std::exchange(o.writer_, 0)), sample_(std::exchange(o.sample_, nullptr)),
-          heap_(std::move(o.heap_)), open_(std::exchange(o.open_, nullptr)) {}
+        : writer_(std::exchange(o.writer_, 0)),
+          sample_(std::exchange(o.sample_, nullptr)),
+          heap_(std::move(o.heap_)),
+          open_(std::exchange(o.open_, nullptr)) {}
     Loan& operator=(Loan&&) = delete;
     Loan(const Loan&) = delete;
     ~Loan() {
@@ -43,9 +46,10 @@ public:
     /// True when the sample lives in shared memory (zero-copy write).
     bool shared_memory() const { return !heap_; }
 
-private:
+  private:
     friend class Writer<T>;
-    Loan(dds_entity_t writer, T* shm_sample, int* open) : writer_(writer), sample_(shm_sample), open_(open) {}
+    Loan(dds_entity_t writer, T* shm_sample, int* open)
+        : writer_(writer), sample_(shm_sample), open_(open) {}
     explicit Loan(std::unique_ptr<T> heap) : sample_(heap.get()), heap_(std::move(heap)) {}
     void release() {
         if (open_ != nullptr) --*open_;
@@ -59,7 +63,7 @@ private:
 
 template <typename T>
 class Writer {
-public:
+  public:
     static Result<Writer> create(const Participant& participant, const std::string& topic,
                                  EndpointOptions options = {MsgTraits<T>::kProfile}) {
         auto w = create_writer(participant, MsgTraits<T>::descriptor(), topic, options);
@@ -74,8 +78,8 @@ public:
     Result<Loan<T>> loan() {
         if (loans_) {
             void* p = nullptr;
-            if (*open_loans_ < kMaxOpenLoans && dds_loan_sample(writer_.get(), &p) == DDS_RETCODE_OK &&
-                p != nullptr) {
+            if (*open_loans_ < kMaxOpenLoans &&
+                dds_loan_sample(writer_.get(), &p) == DDS_RETCODE_OK && p != nullptr) {
                 ++*open_loans_;
                 return Loan<T>(writer_.get(), static_cast<T*>(p), open_loans_.get());
             }
@@ -89,9 +93,11 @@ public:
     /// Publishes a loaned sample; the loan is consumed either way.
     Status write(Loan<T>&& loan) {
         Loan<T> l(std::move(loan));
-        if (l.sample_ == nullptr) return Status(StatusCode::kInvalidArgument, "write of an empty loan");
+        if (l.sample_ == nullptr)
+            return Status(StatusCode::kInvalidArgument, "write of an empty loan");
         const dds_return_t rc = dds_write(writer_.get(), l.sample_);
-        if (!l.heap_) l.sample_ = nullptr;  // ownership passed to DDS (also on error, as Cyclone frees it)
+        if (!l.heap_)
+            l.sample_ = nullptr;  // ownership passed to DDS (also on error, as Cyclone frees it)
         l.release();
         return check(rc, "writing to '" + topic_ + "'");
     }
@@ -107,7 +113,7 @@ public:
     uint64_t loan_failures() const { return loan_failures_; }
     uint32_t matched_readers() const { return dds::matched_readers(writer_.get()); }
 
-private:
+  private:
     Writer(Entity w, std::string topic, bool loans)
         : writer_(std::move(w)), topic_(std::move(topic)), loans_(loans) {}
     Entity writer_;

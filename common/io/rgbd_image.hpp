@@ -1,9 +1,8 @@
 #pragma once
 /// An RGB-D frame as the libraries see it (no DDS): plain OpenCV matrices.
 #include <cstdint>
-#include <string>
-
 #include <opencv2/core.hpp>
+#include <string>
 
 namespace df::io {
 
@@ -17,8 +16,8 @@ constexpr int kMaxWidth = 640;
 constexpr int kMaxHeight = 480;
 
 struct RgbdImage {
-    cv::Mat rgb;    ///< CV_8UC3, R,G,B byte order, registered to depth
-    cv::Mat depth;  ///< CV_16UC1 in raw units; 0 = invalid
+    cv::Mat rgb;                        ///< CV_8UC3, R,G,B byte order, registered to depth
+    cv::Mat depth;                      ///< CV_16UC1 in raw units; 0 = invalid
     double depth_units_per_m = 5000.0;  ///< TUM: 5000, OpenNI (mm): 1000
     Intrinsics intrinsics;
     int64_t sensor_ns = 0;  ///< the source's own time stamp (dataset stamp, device clock), ns
@@ -36,7 +35,7 @@ struct FrameRead {
 
 /// A stream of RGB-D frames: a TUM folder, a live camera, ...
 class FrameSource {
-public:
+  public:
     virtual ~FrameSource() = default;
     /// Blocks until the next frame (live) or reads it (recorded). A bad frame is reported as
     /// kBadFrame with a message and the source moves on; kEnd after the last frame.

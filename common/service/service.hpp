@@ -1,12 +1,12 @@
 #pragma once
 /// What every service main() shares: stop on SIGINT/SIGTERM, the --config/--set flags, and a
 /// DDS participant made from the DdsConfig part of the service's configuration.
+#include <google/protobuf/message.h>
+
+#include <CLI/CLI.hpp>
 #include <atomic>
 #include <string>
 #include <vector>
-
-#include <CLI/CLI.hpp>
-#include <google/protobuf/message.h>
 
 #include "dds.pb.h"
 #include "dds/participant.hpp"

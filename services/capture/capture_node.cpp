@@ -59,8 +59,8 @@ Result<std::unique_ptr<CaptureNode>> CaptureNode::create(const config::CaptureCo
                                                          dds::Participant& participant,
                                                          std::unique_ptr<io::FrameSource> source) {
     const std::string& ns = config.dds().ns();
-    auto frames = dds::Writer<df_msg_RgbdFrame>::create(
-        participant, dds::topic_name(ns, dds::topics::kFrames));
+    auto frames = dds::Writer<df_msg_RgbdFrame>::create(participant,
+                                                        dds::topic_name(ns, dds::topics::kFrames));
     if (!frames) return frames.status();
     auto status = dds::Writer<df_msg_StageStatus>::create(
         participant, dds::topic_name(ns, dds::topics::kStageStatus));
@@ -71,16 +71,22 @@ Result<std::unique_ptr<CaptureNode>> CaptureNode::create(const config::CaptureCo
     auto waitset = dds::WaitSet::create(participant);
     if (!waitset) return waitset.status();
     DF_RETURN_IF_ERROR(waitset->attach_reader(acks->get()));
-    return std::unique_ptr<CaptureNode>(new CaptureNode(config, std::move(source), std::move(*frames),
-                                                        std::move(*status), std::move(*acks),
-                                                        std::move(*waitset)));
+    return std::unique_ptr<CaptureNode>(new CaptureNode(config, std::move(source),
+                                                        std::move(*frames), std::move(*status),
+                                                        std::move(*acks), std::move(*waitset)));
 }
 
-CaptureNode::CaptureNode(const config::CaptureConfig& config, std::unique_ptr<io::FrameSource> source,
-                         dds::Writer<df_msg_RgbdFrame> frames, dds::Writer<df_msg_StageStatus> status,
+CaptureNode::CaptureNode(const config::CaptureConfig& config,
+                         std::unique_ptr<io::FrameSource> source,
+                         dds::Writer<df_msg_RgbdFrame> frames,
+                         dds::Writer<df_msg_StageStatus> status,
                          dds::Reader<df_msg_StageStatus> acks, dds::WaitSet waitset)
-    : config_(config), source_(std::move(source)), frames_(std::move(frames)),
-      status_(std::move(status)), acks_(std::move(acks)), waitset_(std::move(waitset)) {
+    : config_(config),
+      source_(std::move(source)),
+      frames_(std::move(frames)),
+      status_(std::move(status)),
+      acks_(std::move(acks)),
+      waitset_(std::move(waitset)) {
     if (config_.playback() == config::CaptureConfig::LOCKSTEP) {
         required_.insert(config_.lockstep_stages().begin(), config_.lockstep_stages().end());
     }
@@ -104,12 +110,14 @@ Status CaptureNode::wait_for_subscribers() {
 }
 
 void CaptureNode::collect_answers() {
-    (void)acks_.take([this](const df_msg_StageStatus& s, const dds_sample_info_t&) {
-        const std::string stage = dds::get_name(s.stage);
-        if (required_.count(stage) != 0U && s.header.seq + 1 >= seq_) {
-            answers_[s.header.seq].insert(stage);
-        }
-    }, 64);
+    (void)acks_.take(
+        [this](const df_msg_StageStatus& s, const dds_sample_info_t&) {
+            const std::string stage = dds::get_name(s.stage);
+            if (required_.count(stage) != 0U && s.header.seq + 1 >= seq_) {
+                answers_[s.header.seq].insert(stage);
+            }
+        },
+        64);
 }
 
 void CaptureNode::wait_for_answers(uint64_t seq) {

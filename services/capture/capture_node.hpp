@@ -2,17 +2,17 @@
 /// The capture service's adapter: a FrameSource in, <ns>/frames out (loaned from shared memory),
 /// paced in real time, flat out, or in lockstep with the stages that must see every frame.
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <set>
-#include <map>
 #include <string>
 
 #include "capture.pb.h"
-#include "df_msgs.h"
 #include "dds/participant.hpp"
 #include "dds/reader.hpp"
 #include "dds/waitset.hpp"
 #include "dds/writer.hpp"
+#include "df_msgs.h"
 #include "io/rgbd_image.hpp"
 
 namespace df::capture {
@@ -29,14 +29,14 @@ struct CaptureStats {
 };
 
 class CaptureNode {
-public:
+  public:
     static Result<std::unique_ptr<CaptureNode>> create(const config::CaptureConfig& config,
                                                        dds::Participant& participant,
                                                        std::unique_ptr<io::FrameSource> source);
     /// Publishes until the source ends (all loops) or stop is requested.
     Result<CaptureStats> run();
 
-private:
+  private:
     CaptureNode(const config::CaptureConfig& config, std::unique_ptr<io::FrameSource> source,
                 dds::Writer<df_msg_RgbdFrame> frames, dds::Writer<df_msg_StageStatus> status,
                 dds::Reader<df_msg_StageStatus> acks, dds::WaitSet waitset);

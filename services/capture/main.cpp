@@ -16,7 +16,8 @@ int main(int argc, char** argv) {
     df::service::install_stop_handlers();
 
     df::config::CaptureConfig config;
-    if (!folder.empty()) flags.overrides.insert(flags.overrides.begin(), "folder: \"" + folder + "\"");
+    if (!folder.empty())
+        flags.overrides.insert(flags.overrides.begin(), "folder: \"" + folder + "\"");
     if (!df::service::load_config(flags, &config)) return 2;
 
     auto source = df::capture::open_source(config);

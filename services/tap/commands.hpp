@@ -11,7 +11,7 @@ namespace df::tap {
 struct CommonOptions {
     double wait_s = 5;  ///< how long to wait for a topic's writer to be discovered
     RunLimits limits;
-    int window = 100;   ///< samples in the statistics window (hz, bw, delay)
+    int window = 100;  ///< samples in the statistics window (hz, bw, delay)
 };
 
 int cmd_list(const dds::Participant& p, double wait_s);
@@ -24,7 +24,7 @@ int cmd_delay(const dds::Participant& p, const std::string& topic, const CommonO
 struct RecordOptions {
     std::string output;
     std::vector<std::string> topics;  ///< empty: every DetectFusion topic discovered
-    std::string ack_stage;   ///< answer each frame on <ns>/stage_status as this stage (lockstep)
+    std::string ack_stage;  ///< answer each frame on <ns>/stage_status as this stage (lockstep)
     std::string ns = "df";
     bool zstd = false;
 };
@@ -32,10 +32,10 @@ int cmd_record(const dds::Participant& p, const RecordOptions& r, const CommonOp
 
 struct PlayOptions {
     std::string input;
-    double rate = 1.0;         ///< 0 = as fast as possible
+    double rate = 1.0;                ///< 0 = as fast as possible
     std::vector<std::string> remaps;  ///< "from=to" topic prefix rewrites
-    double start_wait_s = 2;   ///< wait for readers before playing
-    uint32_t wait_readers = 0; ///< readers each topic must have before playing
+    double start_wait_s = 2;          ///< wait for readers before playing
+    uint32_t wait_readers = 0;        ///< readers each topic must have before playing
 };
 int cmd_play(const dds::Participant& p, const PlayOptions& play);
 

@@ -1,17 +1,19 @@
 #include "discovery.hpp"
 
+#include <unistd.h>
+
 #include <chrono>
 #include <cstring>
 #include <thread>
-
-#include <unistd.h>
 
 #include "dds/dds_error.hpp"
 
 namespace df::tap {
 namespace {
 
-std::string guid_key(const dds_guid_t& g) { return std::string(reinterpret_cast<const char*>(g.v), 16); }
+std::string guid_key(const dds_guid_t& g) {
+    return std::string(reinterpret_cast<const char*>(g.v), 16);
+}
 
 std::string prop(const dds_qos_t* qos, const char* name) {
     char* value = nullptr;
@@ -40,7 +42,8 @@ void read_participants(dds_entity_t reader, Snapshot* snap) {
         if (!infos[i].valid_data) continue;
         const auto* p = static_cast<const dds_builtintopic_participant_t*>(samples[i]);
         snap->participants[guid_key(p->key)] = {
-            prop(p->qos, "__Hostname"), prop(p->qos, "__ProcessName") + " (pid " + prop(p->qos, "__Pid") + ")"};
+            prop(p->qos, "__Hostname"),
+            prop(p->qos, "__ProcessName") + " (pid " + prop(p->qos, "__Pid") + ")"};
     }
     if (n > 0) dds_return_loan(reader, samples, n);
 }
@@ -53,8 +56,8 @@ void read_endpoints(dds_entity_t reader, bool writers, Snapshot* snap) {
         if (!infos[i].valid_data || infos[i].instance_state != DDS_IST_ALIVE) continue;
         const auto* e = static_cast<const dds_builtintopic_endpoint_t*>(samples[i]);
         if (std::strncmp(e->topic_name, "DCPS", 4) == 0) continue;
-        snap->endpoints[guid_key(e->key)] = {e->topic_name, e->type_name, guid_key(e->participant_key),
-                                             writers};
+        snap->endpoints[guid_key(e->key)] = {e->topic_name, e->type_name,
+                                             guid_key(e->participant_key), writers};
     }
     if (n > 0) dds_return_loan(reader, samples, n);
 }
@@ -62,9 +65,12 @@ void read_endpoints(dds_entity_t reader, bool writers, Snapshot* snap) {
 }  // namespace
 
 std::map<std::string, TopicInfo> discover(const dds::Participant& participant, double wait_s) {
-    dds::Entity pr(dds_create_reader(participant.get(), DDS_BUILTIN_TOPIC_DCPSPARTICIPANT, nullptr, nullptr));
-    dds::Entity wr(dds_create_reader(participant.get(), DDS_BUILTIN_TOPIC_DCPSPUBLICATION, nullptr, nullptr));
-    dds::Entity rr(dds_create_reader(participant.get(), DDS_BUILTIN_TOPIC_DCPSSUBSCRIPTION, nullptr, nullptr));
+    dds::Entity pr(
+        dds_create_reader(participant.get(), DDS_BUILTIN_TOPIC_DCPSPARTICIPANT, nullptr, nullptr));
+    dds::Entity wr(
+        dds_create_reader(participant.get(), DDS_BUILTIN_TOPIC_DCPSPUBLICATION, nullptr, nullptr));
+    dds::Entity rr(
+        dds_create_reader(participant.get(), DDS_BUILTIN_TOPIC_DCPSSUBSCRIPTION, nullptr, nullptr));
     std::this_thread::sleep_for(std::chrono::duration<double>(wait_s));
     Snapshot snap;
     read_participants(pr.get(), &snap);
@@ -88,7 +94,8 @@ std::map<std::string, TopicInfo> discover(const dds::Participant& participant, d
 
 Result<std::string> find_topic_type(const dds::Participant& participant, const std::string& topic,
                                     double wait_s) {
-    dds::Entity wr(dds_create_reader(participant.get(), DDS_BUILTIN_TOPIC_DCPSPUBLICATION, nullptr, nullptr));
+    dds::Entity wr(
+        dds_create_reader(participant.get(), DDS_BUILTIN_TOPIC_DCPSPUBLICATION, nullptr, nullptr));
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(wait_s);
     std::vector<std::string> seen;
     do {
@@ -103,9 +110,9 @@ Result<std::string> find_topic_type(const dds::Participant& participant, const s
     } while (std::chrono::steady_clock::now() < deadline);
     std::string names;
     for (const auto& s : seen) names += (names.empty() ? "" : ", ") + s;
-    return Status(StatusCode::kNotFound, "no writer of topic '" + topic + "' found within " +
-                                             std::to_string(wait_s) + " s (topics with writers: " +
-                                             (names.empty() ? "none" : names) + ")");
+    return Status(StatusCode::kNotFound,
+                  "no writer of topic '" + topic + "' found within " + std::to_string(wait_s) +
+                      " s (topics with writers: " + (names.empty() ? "none" : names) + ")");
 }
 
 }  // namespace df::tap

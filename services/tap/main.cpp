@@ -1,8 +1,7 @@
 // df_tap: look into the pipeline's topics (the `ros2 topic` of DetectFusion).
 //   df_tap list | echo T | hz T | bw T | delay T | record -o F [T...] | play F
-#include <cstdio>
-
 #include <CLI/CLI.hpp>
+#include <cstdio>
 
 #include "commands.hpp"
 #include "core/log.hpp"
@@ -18,10 +17,13 @@ int cmd_list(const dds::Participant& p, double wait_s) {
         return 0;
     }
     for (const auto& [name, t] : topics) {
-        std::printf("%s\n  type: %s\n  writers: %zu\n", name.c_str(), t.type.c_str(), t.writers.size());
-        for (const auto& w : t.writers) std::printf("    - %s on %s\n", w.process.c_str(), w.host.c_str());
+        std::printf("%s\n  type: %s\n  writers: %zu\n", name.c_str(), t.type.c_str(),
+                    t.writers.size());
+        for (const auto& w : t.writers)
+            std::printf("    - %s on %s\n", w.process.c_str(), w.host.c_str());
         std::printf("  readers: %zu\n", t.readers.size());
-        for (const auto& r : t.readers) std::printf("    - %s on %s\n", r.process.c_str(), r.host.c_str());
+        for (const auto& r : t.readers)
+            std::printf("    - %s on %s\n", r.process.c_str(), r.host.c_str());
     }
     return 0;
 }
@@ -45,8 +47,9 @@ int main(int argc, char** argv) {
     auto add_limits = [&common](CLI::App* sub) {
         sub->add_option("--duration", common.limits.duration_s, "stop after this many seconds");
         sub->add_option("-n,--count", common.limits.count, "stop after this many messages");
-        sub->add_option("--idle", common.limits.idle_s,
-                        "stop when nothing arrived for this many seconds (after the first message)");
+        sub->add_option(
+            "--idle", common.limits.idle_s,
+            "stop when nothing arrived for this many seconds (after the first message)");
     };
     std::string topic;
     auto* list = app.add_subcommand("list", "topics with types, writers, readers and hosts");
@@ -58,24 +61,30 @@ int main(int argc, char** argv) {
     auto* delay = app.add_subcommand("delay", "receive time minus capture time");
     for (auto* sub : {echo, hz, bw, delay}) {
         sub->add_option("topic", topic, "topic name, e.g. df/frames")->required();
-        sub->add_option("--window", common.window, "samples in the statistics window")->default_val(100);
+        sub->add_option("--window", common.window, "samples in the statistics window")
+            ->default_val(100);
         add_limits(sub);
     }
     df::tap::RecordOptions rec;
     auto* record = app.add_subcommand("record", "record topics to an MCAP file");
     record->add_option("-o,--output", rec.output, "MCAP file to write")->required();
     record->add_option("topics", rec.topics, "topics (default: all DetectFusion topics)");
-    record->add_option("--ack", rec.ack_stage, "answer each frame as this stage (for lockstep capture)");
-    record->add_option("--ns", rec.ns, "namespace of the stage_status topic for --ack")->default_val("df");
+    record->add_option("--ack", rec.ack_stage,
+                       "answer each frame as this stage (for lockstep capture)");
+    record->add_option("--ns", rec.ns, "namespace of the stage_status topic for --ack")
+        ->default_val("df");
     record->add_flag("--zstd", rec.zstd, "compress chunks with zstd");
     add_limits(record);
     df::tap::PlayOptions play;
     auto* playc = app.add_subcommand("play", "publish an MCAP recording");
     playc->add_option("input", play.input, "MCAP file")->required()->check(CLI::ExistingFile);
-    playc->add_option("-r,--rate", play.rate, "speed factor (0 = as fast as possible)")->default_val(1.0);
+    playc->add_option("-r,--rate", play.rate, "speed factor (0 = as fast as possible)")
+        ->default_val(1.0);
     playc->add_option("--remap", play.remaps, "rewrite topic prefixes, FROM=TO (repeatable)");
-    playc->add_option("--wait-readers", play.wait_readers, "readers each topic must have before playing");
-    playc->add_option("--start-wait", play.start_wait_s, "seconds to wait for those readers")->default_val(5);
+    playc->add_option("--wait-readers", play.wait_readers,
+                      "readers each topic must have before playing");
+    playc->add_option("--start-wait", play.start_wait_s, "seconds to wait for those readers")
+        ->default_val(5);
     CLI11_PARSE(app, argc, argv);
 
     df::service::install_stop_handlers();

@@ -66,12 +66,12 @@ int cmd_echo(const dds::Participant& p, const std::string& topic, const CommonOp
     auto subs = subscribe_one(p, topic, o);
     if (!subs) return finish(subs.status());
     const dds::TypeInfo* type = (*subs)[0].type;
-    return finish(run_loop(p, *subs, o.limits,
-                           [&](size_t, const void* sample, const dds_sample_info_t&) {
-                               std::cout << print_sample(*type, sample, max_items) << "---\n"
-                                         << std::flush;
-                           },
-                           nullptr));
+    return finish(run_loop(
+        p, *subs, o.limits,
+        [&](size_t, const void* sample, const dds_sample_info_t&) {
+            std::cout << print_sample(*type, sample, max_items) << "---\n" << std::flush;
+        },
+        nullptr));
 }
 
 int cmd_hz(const dds::Participant& p, const std::string& topic, const CommonOptions& o) {
@@ -90,13 +90,14 @@ int cmd_hz(const dds::Participant& p, const std::string& topic, const CommonOpti
         }
         std::fflush(stdout);
     };
-    const Status s = run_loop(p, *subs, o.limits,
-                              [&](size_t, const void*, const dds_sample_info_t&) {
-                                  const auto now = static_cast<int64_t>(dds::wall_ns());
-                                  if (last >= 0) intervals.add((now - last) * 1e-9);
-                                  last = now;
-                              },
-                              report);
+    const Status s = run_loop(
+        p, *subs, o.limits,
+        [&](size_t, const void*, const dds_sample_info_t&) {
+            const auto now = static_cast<int64_t>(dds::wall_ns());
+            if (last >= 0) intervals.add((now - last) * 1e-9);
+            last = now;
+        },
+        report);
     report();
     return finish(s);
 }
@@ -113,24 +114,35 @@ int cmd_bw(const dds::Participant& p, const std::string& topic, const CommonOpti
             size_t bytes = 0;
             for (auto& w : window) bytes += w.second;
             const double span = (window.back().first - window.front().first) * 1e-9;
-            std::printf("average: %.2f MB/s\n\tmean: %.2f KB min: %.2f KB max: %.2f KB window: %zu\n",
-                        span > 0 ? bytes / span / 1e6 : 0.0,
-                        bytes / 1e3 / static_cast<double>(window.size()),
-                        std::min_element(window.begin(), window.end(), [](auto& a, auto& b) { return a.second < b.second; })->second / 1e3,
-                        std::max_element(window.begin(), window.end(), [](auto& a, auto& b) { return a.second < b.second; })->second / 1e3,
-                        window.size());
+            std::printf(
+                "average: %.2f MB/s\n\tmean: %.2f KB min: %.2f KB max: %.2f KB window: %zu\n",
+                span > 0 ? bytes / span / 1e6 : 0.0,
+                bytes / 1e3 / static_cast<double>(window.size()),
+                std::min_element(
+                    window.begin(), window.end(),
+                    [](auto& a, auto& b) {
+                        return a.second < b.second;
+                    })->second /
+                    1e3,
+                std::max_element(
+                    window.begin(), window.end(),
+                    [](auto& a, auto& b) {
+                        return a.second < b.second;
+                    })->second /
+                    1e3,
+                window.size());
         }
         std::fflush(stdout);
     };
-    const Status s = run_loop(p, *subs, o.limits,
-                              [&](size_t, const void* sample, const dds_sample_info_t&) {
-                                  const size_t bytes = type->fixed_size()
-                                                           ? type->descriptor->m_size
-                                                           : dds::to_cdr(type->descriptor, sample).size();
-                                  window.emplace_back(static_cast<int64_t>(dds::wall_ns()), bytes);
-                                  if (window.size() > static_cast<size_t>(o.window)) window.pop_front();
-                              },
-                              report);
+    const Status s = run_loop(
+        p, *subs, o.limits,
+        [&](size_t, const void* sample, const dds_sample_info_t&) {
+            const size_t bytes = type->fixed_size() ? type->descriptor->m_size
+                                                    : dds::to_cdr(type->descriptor, sample).size();
+            window.emplace_back(static_cast<int64_t>(dds::wall_ns()), bytes);
+            if (window.size() > static_cast<size_t>(o.window)) window.pop_front();
+        },
+        report);
     report();
     return finish(s);
 }
@@ -143,20 +155,23 @@ int cmd_delay(const dds::Participant& p, const std::string& topic, const CommonO
         if (delays.values.empty()) {
             std::printf("no new messages\n");
         } else {
-            std::printf("delay (receive - capture): mean %.3f ms p50 %.3f ms p99 %.3f ms min %.3f ms max %.3f ms window: %zu\n",
-                        delays.mean(), delays.percentile(0.5), delays.percentile(0.99),
-                        delays.percentile(0), delays.percentile(1), delays.values.size());
+            std::printf(
+                "delay (receive - capture): mean %.3f ms p50 %.3f ms p99 %.3f ms min %.3f ms max "
+                "%.3f ms window: %zu\n",
+                delays.mean(), delays.percentile(0.5), delays.percentile(0.99),
+                delays.percentile(0), delays.percentile(1), delays.values.size());
         }
         std::fflush(stdout);
     };
-    const Status s = run_loop(p, *subs, o.limits,
-                              [&](size_t, const void* sample, const dds_sample_info_t&) {
-                                  // Every type starts with df_msg_Header.
-                                  const auto* h = static_cast<const df_msg_Header*>(sample);
-                                  delays.add((static_cast<double>(dds::wall_ns()) -
-                                              static_cast<double>(h->capture_ns)) * 1e-6);
-                              },
-                              report);
+    const Status s = run_loop(
+        p, *subs, o.limits,
+        [&](size_t, const void* sample, const dds_sample_info_t&) {
+            // Every type starts with df_msg_Header.
+            const auto* h = static_cast<const df_msg_Header*>(sample);
+            delays.add((static_cast<double>(dds::wall_ns()) - static_cast<double>(h->capture_ns)) *
+                       1e-6);
+        },
+        report);
     report();
     return finish(s);
 }

@@ -1,10 +1,10 @@
 // tap play: an MCAP recording back onto its topics (or remapped ones) at original or scaled rate.
+#include <dds/ddsc/dds_loan_api.h>
+
 #include <chrono>
 #include <cstring>
 #include <map>
 #include <thread>
-
-#include <dds/ddsc/dds_loan_api.h>
 
 #include "commands.hpp"
 #include "core/log.hpp"
@@ -22,7 +22,8 @@ std::string remap(const std::string& topic, const std::vector<std::string>& rema
         const auto eq = r.find('=');
         if (eq == std::string::npos) continue;
         const std::string from = r.substr(0, eq);
-        if (topic.compare(0, from.size(), from) == 0) return r.substr(eq + 1) + topic.substr(from.size());
+        if (topic.compare(0, from.size(), from) == 0)
+            return r.substr(eq + 1) + topic.substr(from.size());
     }
     return topic;
 }
@@ -83,8 +84,9 @@ int cmd_play(const dds::Participant& p, const PlayOptions& play) {
     }
     if (play.wait_readers > 0) {
         for (auto& [id, out] : outputs) {
-            const Status s = dds::wait_for_matches(out.writer.get(), true, play.wait_readers,
-                                                   static_cast<dds_duration_t>(play.start_wait_s * 1e9));
+            const Status s =
+                dds::wait_for_matches(out.writer.get(), true, play.wait_readers,
+                                      static_cast<dds_duration_t>(play.start_wait_s * 1e9));
             if (!s) return log::error("play: ", s.message()), 1;
         }
     }
@@ -99,12 +101,14 @@ int cmd_play(const dds::Participant& p, const PlayOptions& play) {
         if (it == outputs.end()) return true;
         if (first_log == 0) first_log = m.log_time_ns;
         if (play.rate > 0) {
-            const auto due = start + std::chrono::nanoseconds(static_cast<int64_t>((m.log_time_ns - first_log) / play.rate));
+            const auto due = start + std::chrono::nanoseconds(static_cast<int64_t>(
+                                         (m.log_time_ns - first_log) / play.rate));
             std::this_thread::sleep_until(due);
         }
         const Status w = publish(it->second, m);
         if (!w) {
-            failure = w.with_context("message " + std::to_string(played) + " on channel " + std::to_string(m.channel_id));
+            failure = w.with_context("message " + std::to_string(played) + " on channel " +
+                                     std::to_string(m.channel_id));
             return false;
         }
         ++played;

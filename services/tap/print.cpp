@@ -8,18 +8,24 @@ namespace {
 
 const char* status_name(df_msg_FrameStatus s) {
     switch (s) {
-        case df_msg_FRAME_OK: return "OK";
-        case df_msg_FRAME_SKIPPED: return "SKIPPED";
-        case df_msg_FRAME_FAILED: return "FAILED";
+        case df_msg_FRAME_OK:
+            return "OK";
+        case df_msg_FRAME_SKIPPED:
+            return "SKIPPED";
+        case df_msg_FRAME_FAILED:
+            return "FAILED";
     }
     return "?";
 }
 
 const char* kind_name(df_msg_ObjectKind k) {
     switch (k) {
-        case df_msg_OBJECT_RIGID: return "RIGID";
-        case df_msg_OBJECT_NON_RIGID: return "NON_RIGID";
-        case df_msg_OBJECT_UNKNOWN: return "UNKNOWN";
+        case df_msg_OBJECT_RIGID:
+            return "RIGID";
+        case df_msg_OBJECT_NON_RIGID:
+            return "NON_RIGID";
+        case df_msg_OBJECT_UNKNOWN:
+            return "UNKNOWN";
     }
     return "?";
 }
@@ -49,10 +55,12 @@ void frame(std::ostringstream& o, const df_msg_RgbdFrame& f, int max_items) {
     const size_t px = static_cast<size_t>(f.width) * f.height;
     size_t valid = 0;
     for (size_t i = 0; i < px && i < df_msg_MAX_PIXELS; ++i) valid += f.depth[i] != 0;
-    o << "width: " << f.width << "\nheight: " << f.height << "\nintrinsics: {fx: " << f.intrinsics.fx
-      << ", fy: " << f.intrinsics.fy << ", cx: " << f.intrinsics.cx << ", cy: " << f.intrinsics.cy
+    o << "width: " << f.width << "\nheight: " << f.height
+      << "\nintrinsics: {fx: " << f.intrinsics.fx << ", fy: " << f.intrinsics.fy
+      << ", cx: " << f.intrinsics.cx << ", cy: " << f.intrinsics.cy
       << "}\ndepth_units_per_m: " << f.depth_units_per_m << "\n";
-    array(o, "rgb", f.rgb, px * 3 < df_msg_MAX_RGB_BYTES ? px * 3 : df_msg_MAX_RGB_BYTES, max_items);
+    array(o, "rgb", f.rgb, px * 3 < df_msg_MAX_RGB_BYTES ? px * 3 : df_msg_MAX_RGB_BYTES,
+          max_items);
     array(o, "depth", f.depth, px < df_msg_MAX_PIXELS ? px : df_msg_MAX_PIXELS, max_items);
     o << "depth_valid_pixels: " << valid << "\n";
 }
@@ -65,9 +73,10 @@ void segments(std::ostringstream& o, const df_msg_ObjectSegments& s, int max_ite
       << "\ninstances:\n";
     for (uint32_t i = 0; i < s.instance_count && i < df_msg_MAX_INSTANCES; ++i) {
         const auto& in = s.instances[i];
-        o << "  - {id: " << in.instance_id << ", class_id: " << in.class_id << ", score: " << in.score
-          << ", kind: " << kind_name(in.kind) << ", box: [" << in.box_x << ", " << in.box_y << ", "
-          << in.box_w << ", " << in.box_h << "], pixels: " << in.pixel_count << "}\n";
+        o << "  - {id: " << in.instance_id << ", class_id: " << in.class_id
+          << ", score: " << in.score << ", kind: " << kind_name(in.kind) << ", box: [" << in.box_x
+          << ", " << in.box_y << ", " << in.box_w << ", " << in.box_h
+          << "], pixels: " << in.pixel_count << "}\n";
     }
     array(o, "labels", s.labels, static_cast<size_t>(s.width) * s.height, max_items);
 }
@@ -82,22 +91,25 @@ std::string print_sample(const dds::TypeInfo& type, const void* sample, int max_
     } else if (name == "df::msg::CompressedImage") {
         const auto& c = *static_cast<const df_msg_CompressedImage*>(sample);
         header(o, c.header);
-        o << "width: " << c.width << "\nheight: " << c.height << "\nsource_width: " << c.source_width
-          << "\nsource_height: " << c.source_height << "\nformat: " << std::string(c.format, strnlen(c.format, 8)) << "\n";
+        o << "width: " << c.width << "\nheight: " << c.height
+          << "\nsource_width: " << c.source_width << "\nsource_height: " << c.source_height
+          << "\nformat: " << std::string(c.format, strnlen(c.format, 8)) << "\n";
         array(o, "data", c.data._buffer, c.data._length, max_items);
     } else if (name == "df::msg::Detections") {
         const auto& d = *static_cast<const df_msg_Detections*>(sample);
         header(o, d.header);
-        o << "image: [" << d.image_width << ", " << d.image_height << "]\ncount: " << d.count << "\nboxes:\n";
+        o << "image: [" << d.image_width << ", " << d.image_height << "]\ncount: " << d.count
+          << "\nboxes:\n";
         for (uint32_t i = 0; i < d.count && i < df_msg_MAX_DETECTIONS; ++i) {
             const auto& b = d.boxes[i];
-            o << "  - {class_id: " << b.class_id << ", score: " << b.score << ", box: [" << b.x << ", "
-              << b.y << ", " << b.w << ", " << b.h << "]}\n";
+            o << "  - {class_id: " << b.class_id << ", score: " << b.score << ", box: [" << b.x
+              << ", " << b.y << ", " << b.w << ", " << b.h << "]}\n";
         }
     } else if (name == "df::msg::GeometricSegments") {
         const auto& g = *static_cast<const df_msg_GeometricSegments*>(sample);
         header(o, g.header);
-        o << "width: " << g.width << "\nheight: " << g.height << "\nsegment_count: " << g.segment_count << "\n";
+        o << "width: " << g.width << "\nheight: " << g.height
+          << "\nsegment_count: " << g.segment_count << "\n";
         array(o, "labels", g.labels, static_cast<size_t>(g.width) * g.height, max_items);
     } else if (name == "df::msg::ObjectSegments") {
         segments(o, *static_cast<const df_msg_ObjectSegments*>(sample), max_items);
@@ -106,7 +118,10 @@ std::string print_sample(const dds::TypeInfo& type, const void* sample, int max_
         header(o, p.header);
         o << "world_T_camera:\n";
         pose(o, "  ", p.world_T_camera);
-        o << "state: " << (p.state == df_msg_TRACKING_OK ? "OK" : p.state == df_msg_TRACKING_LOST ? "LOST" : "INITIALIZING")
+        o << "state: "
+          << (p.state == df_msg_TRACKING_OK     ? "OK"
+              : p.state == df_msg_TRACKING_LOST ? "LOST"
+                                                : "INITIALIZING")
           << "\ninlier_ratio: " << p.inlier_ratio << "\nresidual: " << p.residual << "\n";
     } else if (name == "df::msg::ObjectPoses") {
         const auto& p = *static_cast<const df_msg_ObjectPoses*>(sample);
@@ -114,8 +129,9 @@ std::string print_sample(const dds::TypeInfo& type, const void* sample, int max_
         o << "count: " << p.count << "\nobjects:\n";
         for (uint32_t i = 0; i < p.count && i < df_msg_MAX_OBJECTS; ++i) {
             const auto& ob = p.objects[i];
-            o << "  - object_id: " << ob.object_id << "\n    class_id: " << ob.class_id << "\n    kind: "
-              << kind_name(ob.kind) << "\n    visible: " << (ob.visible ? "true" : "false")
+            o << "  - object_id: " << ob.object_id << "\n    class_id: " << ob.class_id
+              << "\n    kind: " << kind_name(ob.kind)
+              << "\n    visible: " << (ob.visible ? "true" : "false")
               << "\n    surfels: " << ob.surfel_count << "\n    world_T_object:\n";
             pose(o, "      ", ob.world_T_object);
         }

@@ -27,11 +27,13 @@ Result<std::vector<Subscription>> subscribe_all(const dds::Participant& p, const
     std::vector<std::string> names = r.topics;
     if (names.empty()) {
         for (const auto& [name, info] : discover(p, o.wait_s)) {
-            if (dds::find_type(info.type) != nullptr && !info.writers.empty()) names.push_back(name);
+            if (dds::find_type(info.type) != nullptr && !info.writers.empty())
+                names.push_back(name);
         }
         if (names.empty()) {
-            return Status(StatusCode::kNotFound, "no DetectFusion topics with writers found within " +
-                                                     std::to_string(o.wait_s) + " s");
+            return Status(StatusCode::kNotFound,
+                          "no DetectFusion topics with writers found within " +
+                              std::to_string(o.wait_s) + " s");
         }
     }
     std::vector<Subscription> subs;
@@ -75,31 +77,37 @@ int cmd_record(const dds::Participant& p, const RecordOptions& r, const CommonOp
     }
     std::unique_ptr<dds::Writer<df_msg_StageStatus>> ack;
     if (!r.ack_stage.empty()) {
-        auto w = dds::Writer<df_msg_StageStatus>::create(p, dds::topic_name(r.ns, dds::topics::kStageStatus));
+        auto w = dds::Writer<df_msg_StageStatus>::create(
+            p, dds::topic_name(r.ns, dds::topics::kStageStatus));
         if (!w) return log::error(w.status().message()), 1;
         ack = std::make_unique<dds::Writer<df_msg_StageStatus>>(std::move(*w));
     }
 
     std::map<size_t, TopicStats> stats;
     Status write_error;
-    const Status s = run_loop(p, *subs, o.limits, [&](size_t i, const void* sample, const dds_sample_info_t& info) {
-        const uint64_t now = dds::wall_ns();
-        const auto* header = static_cast<const df_msg_Header*>(sample);
-        const std::vector<uint8_t> cdr = dds::to_cdr((*subs)[i].type->descriptor, sample);
-        const Status w = (*writer)->write(channel_of[i], static_cast<uint32_t>(header->seq), now,
-                                          static_cast<uint64_t>(info.source_timestamp), cdr.data(), cdr.size());
-        if (!w && write_error.is_ok()) write_error = w;
-        TopicStats& st = stats[i];
-        if (st.count++ == 0) st.first_ns = now;
-        st.last_ns = now;
-        st.delay_ms.push_back((static_cast<double>(now) - static_cast<double>(header->capture_ns)) * 1e-6);
-        if (ack && (*subs)[i].type->descriptor == &df_msg_RgbdFrame_desc) {
-            df_msg_StageStatus a{};
-            a.header = *header;
-            dds::set_name(a.stage, r.ack_stage);
-            (void)ack->write_copy(a);
-        }
-    }, nullptr);
+    const Status s = run_loop(
+        p, *subs, o.limits,
+        [&](size_t i, const void* sample, const dds_sample_info_t& info) {
+            const uint64_t now = dds::wall_ns();
+            const auto* header = static_cast<const df_msg_Header*>(sample);
+            const std::vector<uint8_t> cdr = dds::to_cdr((*subs)[i].type->descriptor, sample);
+            const Status w = (*writer)->write(channel_of[i], static_cast<uint32_t>(header->seq),
+                                              now, static_cast<uint64_t>(info.source_timestamp),
+                                              cdr.data(), cdr.size());
+            if (!w && write_error.is_ok()) write_error = w;
+            TopicStats& st = stats[i];
+            if (st.count++ == 0) st.first_ns = now;
+            st.last_ns = now;
+            st.delay_ms.push_back(
+                (static_cast<double>(now) - static_cast<double>(header->capture_ns)) * 1e-6);
+            if (ack && (*subs)[i].type->descriptor == &df_msg_RgbdFrame_desc) {
+                df_msg_StageStatus a{};
+                a.header = *header;
+                dds::set_name(a.stage, r.ack_stage);
+                (void)ack->write_copy(a);
+            }
+        },
+        nullptr);
     const Status closed = (*writer)->close();
     if (!s || !write_error || !closed) {
         log::error(!s ? s.message() : !write_error ? write_error.message() : closed.message());

@@ -14,8 +14,8 @@ Result<Subscription> subscribe(const dds::Participant& participant, const std::s
     if (!type_name) return type_name.status();
     const dds::TypeInfo* type = dds::find_type(*type_name);
     if (type == nullptr) {
-        return Status(StatusCode::kInvalidArgument,
-                      "topic '" + topic + "' has type " + *type_name + ", which is not a DetectFusion type");
+        return Status(StatusCode::kInvalidArgument, "topic '" + topic + "' has type " + *type_name +
+                                                        ", which is not a DetectFusion type");
     }
     dds::EndpointOptions options{dds::QosProfile::kTap, depth};
     auto reader = dds::create_reader(participant, type->descriptor, topic, options);
@@ -40,12 +40,13 @@ Status run_loop(const dds::Participant& participant, std::vector<Subscription>& 
         auto n = ws->wait(DDS_MSECS(50));
         if (!n) return n.status();
         for (size_t i = 0; i < subs.size(); ++i) {
-            auto taken = dds::take_samples(
-                subs[i].reader.get(), subs[i].type->descriptor, dds::ReadMode::kZeroCopy, 16,
-                [&](const void* sample, const dds_sample_info_t& info) {
-                    if (limits.count == 0 || total < limits.count) on_sample(i, sample, info);
-                    ++total;
-                });
+            auto taken = dds::take_samples(subs[i].reader.get(), subs[i].type->descriptor,
+                                           dds::ReadMode::kZeroCopy, 16,
+                                           [&](const void* sample, const dds_sample_info_t& info) {
+                                               if (limits.count == 0 || total < limits.count)
+                                                   on_sample(i, sample, info);
+                                               ++total;
+                                           });
             if (!taken) return taken.status();
             if (*taken > 0) {
                 any = true;
@@ -58,8 +59,12 @@ Status run_loop(const dds::Participant& participant, std::vector<Subscription>& 
             if (on_tick) on_tick();
         }
         if (limits.count > 0 && total >= limits.count) break;
-        if (limits.duration_s > 0 && now - start >= std::chrono::duration<double>(limits.duration_s)) break;
-        if (limits.idle_s > 0 && any && now - last_sample >= std::chrono::duration<double>(limits.idle_s)) break;
+        if (limits.duration_s > 0 &&
+            now - start >= std::chrono::duration<double>(limits.duration_s))
+            break;
+        if (limits.idle_s > 0 && any &&
+            now - last_sample >= std::chrono::duration<double>(limits.idle_s))
+            break;
     }
     return Status::ok();
 }

@@ -5,6 +5,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -13,8 +14,6 @@
 #include <string>
 #include <thread>
 #include <vector>
-
-#include <CLI/CLI.hpp>
 
 #include "core/log.hpp"
 #include "dds/msg_convert.hpp"
@@ -61,15 +60,20 @@ int run_reader(const std::string& mode, const std::string& topic, int count) {
     while (static_cast<int>(lat.size()) < count) {
         (void)ws->wait(DDS_MSECS(100));
         const auto n = r->take([&](const df_msg_RgbdFrame& f, const dds_sample_info_t&) {
-            lat.push_back((static_cast<double>(dds::wall_ns()) - static_cast<double>(f.header.capture_ns)) * 1e-6);
-            checksum += f.rgb[f.header.seq % 1000] + f.depth[f.header.seq % 1000];  // touch the data
+            lat.push_back(
+                (static_cast<double>(dds::wall_ns()) - static_cast<double>(f.header.capture_ns)) *
+                1e-6);
+            checksum +=
+                f.rgb[f.header.seq % 1000] + f.depth[f.header.seq % 1000];  // touch the data
         });
         if (n && *n > 0) last = std::chrono::steady_clock::now();
-        if (!lat.empty() && std::chrono::steady_clock::now() - last > std::chrono::seconds(2)) break;
+        if (!lat.empty() && std::chrono::steady_clock::now() - last > std::chrono::seconds(2))
+            break;
     }
     const double cpu = cpu_seconds() - cpu0;
     std::printf("%zu %.4f %.4f %.4f %llu\n", lat.size(), pct(lat, 0.5), pct(lat, 0.99),
-                lat.empty() ? 0 : cpu * 1e3 / lat.size(), static_cast<unsigned long long>(checksum % 7));
+                lat.empty() ? 0 : cpu * 1e3 / lat.size(),
+                static_cast<unsigned long long>(checksum % 7));
     return 0;
 }
 
@@ -82,12 +86,14 @@ struct Row {
     std::vector<std::vector<double>> reader_stats;  // received, p50, p99, cpu
 };
 
-Row run_writer(const std::string& self, const std::string& mode, int readers, double rate_hz, int frames) {
+Row run_writer(const std::string& self, const std::string& mode, int readers, double rate_hz,
+               int frames) {
     Row row{mode, readers, rate_hz, frames, 0, {}};
     std::string safe_mode = mode;  // topic names allow letters, digits, '_' and '/'
     std::replace(safe_mode.begin(), safe_mode.end(), '-', '_');
-    const std::string topic = "bench" + std::to_string(getpid()) + "_" + safe_mode + std::to_string(readers) +
-                              "_" + std::to_string(static_cast<int>(rate_hz)) + "/frames";
+    const std::string topic = "bench" + std::to_string(getpid()) + "_" + safe_mode +
+                              std::to_string(readers) + "_" +
+                              std::to_string(static_cast<int>(rate_hz)) + "/frames";
     std::vector<FILE*> procs;
     for (int i = 0; i < readers; ++i) {
         const std::string cmd = self + " --role reader --mode " + mode + " --topic " + topic +
@@ -111,7 +117,8 @@ Row run_writer(const std::string& self, const std::string& mode, int readers, do
     const double cpu0 = cpu_seconds();
     const auto start = std::chrono::steady_clock::now();
     for (int i = 0; i < frames; ++i) {
-        if (rate_hz > 0) std::this_thread::sleep_until(start + std::chrono::duration<double>(i / rate_hz));
+        if (rate_hz > 0)
+            std::this_thread::sleep_until(start + std::chrono::duration<double>(i / rate_hz));
         auto loan = w->loan();
         if (!loan) continue;
         df_msg_Header h{};
@@ -124,7 +131,8 @@ Row run_writer(const std::string& self, const std::string& mode, int readers, do
     for (FILE* f : procs) {
         double n = 0, p50 = 0, p99 = 0, cpu = 0;
         unsigned long long ck = 0;
-        if (fscanf(f, "%lf %lf %lf %lf %llu", &n, &p50, &p99, &cpu, &ck) == 5) row.reader_stats.push_back({n, p50, p99, cpu});
+        if (fscanf(f, "%lf %lf %lf %lf %llu", &n, &p50, &p99, &cpu, &ck) == 5)
+            row.reader_stats.push_back({n, p50, p99, cpu});
         pclose(f);
     }
     return row;
@@ -149,8 +157,10 @@ int main(int argc, char** argv) {
     char self[4096] = {};
     const ssize_t len = readlink("/proc/self/exe", self, sizeof self - 1);
     if (len <= 0) return 1;
-    std::printf("640x480 RGB-D frames (%zu bytes per sample), one writer process, reader processes on this host\n",
-                sizeof(df_msg_RgbdFrame));
+    std::printf(
+        "640x480 RGB-D frames (%zu bytes per sample), one writer process, reader processes on this "
+        "host\n",
+        sizeof(df_msg_RgbdFrame));
     std::printf("%-9s %7s %8s %7s %9s %9s %9s %13s %13s\n", "path", "readers", "rate", "sent",
                 "received", "p50 ms", "p99 ms", "writer cpu/f", "reader cpu/f");
     for (const double rate : {30.0, 0.0}) {
@@ -165,8 +175,9 @@ int main(int argc, char** argv) {
                     p99 = std::max(p99, s[2]);
                     cpu += s[3] / r.reader_stats.size();
                 }
-                std::printf("%-9s %7d %8s %7d %9.0f %9.3f %9.3f %10.3f ms %10.3f ms\n", m.c_str(), readers,
-                            rate > 0 ? "30 Hz" : "flat out", r.sent, recv, p50, p99, r.writer_cpu_ms, cpu);
+                std::printf("%-9s %7d %8s %7d %9.0f %9.3f %9.3f %10.3f ms %10.3f ms\n", m.c_str(),
+                            readers, rate > 0 ? "30 Hz" : "flat out", r.sent, recv, p50, p99,
+                            r.writer_cpu_ms, cpu);
                 std::fflush(stdout);
             }
         }

@@ -33,7 +33,8 @@ std::vector<io::RgbdImage> make_frames(int n, int w, int h) {
 
 size_t count_lines_with(const std::string& text, const std::string& what) {
     size_t n = 0;
-    for (size_t pos = text.find(what); pos != std::string::npos; pos = text.find(what, pos + 1)) ++n;
+    for (size_t pos = text.find(what); pos != std::string::npos; pos = text.find(what, pos + 1))
+        ++n;
     return n;
 }
 
@@ -43,8 +44,9 @@ struct Received {
 };
 
 /// Subscribes in this process, acknowledges each frame as stage "test", compares bytes.
-Received receive(dds::Participant& p, const std::string& ns, const std::vector<io::RgbdImage>& expected,
-                 const std::vector<int>& expected_index, test::ChildProcess& capture) {
+Received receive(dds::Participant& p, const std::string& ns,
+                 const std::vector<io::RgbdImage>& expected, const std::vector<int>& expected_index,
+                 test::ChildProcess& capture) {
     Received got;
     auto reader = dds::Reader<df_msg_RgbdFrame>::create(p, dds::topic_name(ns, "frames"),
                                                         {dds::QosProfile::kFrames, 64});
@@ -87,11 +89,19 @@ Received receive(dds::Participant& p, const std::string& ns, const std::vector<i
 
 std::vector<std::string> capture_args(const std::string& folder, const std::string& ns,
                                       const std::string& transport, int domain) {
-    return {test::bin_dir() + "/df_capture", folder,
-            "--set", "dds { ns: \"" + ns + "\" transport: \"" + transport + "\" domain_id: " +
-                         std::to_string(domain) + " }",
-            "--set", "playback: LOCKSTEP", "--set", "lockstep_stages: \"test\"",
-            "--set", "start_wait_s: 30", "--set", "lockstep_timeout_s: 20"};
+    return {test::bin_dir() + "/df_capture",
+            folder,
+            "--set",
+            "dds { ns: \"" + ns + "\" transport: \"" + transport +
+                "\" domain_id: " + std::to_string(domain) + " }",
+            "--set",
+            "playback: LOCKSTEP",
+            "--set",
+            "lockstep_stages: \"test\"",
+            "--set",
+            "start_wait_s: 30",
+            "--set",
+            "lockstep_timeout_s: 20"};
 }
 
 class CaptureTransport : public ::testing::TestWithParam<std::string> {};
@@ -120,9 +130,13 @@ TEST_P(CaptureTransport, EveryFrameArrivesIntactAndNoneIsLostInLockstep) {
     EXPECT_EQ(got.intact, static_cast<int>(frames.size()));
     const std::string log = capture.output();
     if (transport == "shm") {
-        EXPECT_NE(log.find("frames (df::msg::RgbdFrame, qos frames): shared memory, loaned"), std::string::npos) << log;
+        EXPECT_NE(log.find("frames (df::msg::RgbdFrame, qos frames): shared memory, loaned"),
+                  std::string::npos)
+            << log;
     } else {
-        EXPECT_NE(log.find("frames (df::msg::RgbdFrame, qos frames): network (UDP)"), std::string::npos) << log;
+        EXPECT_NE(log.find("frames (df::msg::RgbdFrame, qos frames): network (UDP)"),
+                  std::string::npos)
+            << log;
     }
 }
 
@@ -198,7 +212,10 @@ TEST(CaptureBadInput, MalformedListLineIsNamedAndTheRunGoesOn) {
     const auto frames = make_frames(6, 320, 240);
     const std::string seq = dir.path() + "/seq";
     ASSERT_TRUE(io::write_tum_folder(seq, frames).is_ok());
-    { std::ofstream(seq + "/associations.txt", std::ios::app) << "1.5 rgb/x.png not-a-stamp depth/x.png\n"; }
+    {
+        std::ofstream(seq + "/associations.txt", std::ios::app)
+            << "1.5 rgb/x.png not-a-stamp depth/x.png\n";
+    }
     dds::ParticipantConfig pc;
     pc.transport = dds::Transport::kSharedMemory;
     auto p = dds::Participant::create(pc);
@@ -211,7 +228,9 @@ TEST(CaptureBadInput, MalformedListLineIsNamedAndTheRunGoesOn) {
     EXPECT_EQ(got.intact, 6);
     const std::string log = capture.output();
     EXPECT_EQ(count_lines_with(log, "[error]"), 1U) << log;
-    EXPECT_NE(log.find("associations.txt:7"), std::string::npos) << "the error must name file and line\n" << log;
+    EXPECT_NE(log.find("associations.txt:7"), std::string::npos)
+        << "the error must name file and line\n"
+        << log;
 }
 
 TEST(CaptureBadInput, UnreadableFolderFailsAtStartWithAClearMessage) {

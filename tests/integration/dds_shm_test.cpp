@@ -77,8 +77,10 @@ TEST(SharedMemory, ExhaustedPoolGivesErrorValuesThenRecovers) {
         for (int i = 0; i < kMaxOpenLoans; ++i) {
             auto l = w.loan();
             ASSERT_TRUE(l.is_ok());
-            if (l->shared_memory()) hoard.push_back(std::move(*l));
-            else ++fallbacks;
+            if (l->shared_memory())
+                hoard.push_back(std::move(*l));
+            else
+                ++fallbacks;
         }
     }
     EXPECT_GE(fallbacks, 1) << "the pool never ran out";
@@ -98,7 +100,9 @@ TEST(SharedMemory, ExhaustedPoolGivesErrorValuesThenRecovers) {
     int got = 0;
     for (int tries = 0; tries < 30 && got == 0; ++tries) {
         (void)ws->wait(DDS_MSECS(100));
-        (void)r->take([&](const df_msg_RgbdFrame& f, const dds_sample_info_t&) { got += f.header.seq == 4242; });
+        (void)r->take([&](const df_msg_RgbdFrame& f, const dds_sample_info_t&) {
+            got += f.header.seq == 4242;
+        });
     }
     EXPECT_EQ(got, 1);
 }
@@ -126,8 +130,10 @@ TEST(SharedMemory, LoanedFrameReachesAnotherParticipantIntact) {
             ++got;
             EXPECT_EQ(f.header.seq, 77U);
             bool same = true;
-            for (size_t i = 0; i < sizeof(f.rgb) && same; ++i) same = f.rgb[i] == static_cast<uint8_t>(i * 31);
-            for (size_t i = 0; i < 640 * 480 && same; ++i) same = f.depth[i] == static_cast<uint16_t>(i * 7);
+            for (size_t i = 0; i < sizeof(f.rgb) && same; ++i)
+                same = f.rgb[i] == static_cast<uint8_t>(i * 31);
+            for (size_t i = 0; i < 640 * 480 && same; ++i)
+                same = f.depth[i] == static_cast<uint16_t>(i * 7);
             EXPECT_TRUE(same);
         });
     }

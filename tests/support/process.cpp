@@ -49,7 +49,8 @@ ChildProcess::~ChildProcess() {
 int ChildProcess::wait(double timeout_s) {
     if (pid_ <= 0) return -1;
     if (exited_) return status_;
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+    const auto deadline =
+        std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
     while (true) {
         int st = 0;
         const pid_t r = ::waitpid(pid_, &st, WNOHANG);

@@ -9,7 +9,7 @@
 namespace df::test {
 
 class ChildProcess {
-public:
+  public:
     /// Starts argv[0] (a path) with argv; stdout+stderr go to log_path.
     ChildProcess(const std::vector<std::string>& argv, const std::string& log_path,
                  const std::vector<std::string>& extra_env = {});
@@ -24,7 +24,7 @@ public:
     bool running();
     std::string output() const;
 
-private:
+  private:
     pid_t pid_ = -1;
     int status_ = -1;
     bool exited_ = false;
@@ -37,12 +37,12 @@ bool roudi_available();
 
 /// A fresh folder under $TMPDIR, removed at destruction.
 class TempDir {
-public:
+  public:
     TempDir();
     ~TempDir();
     const std::string& path() const { return path_; }
 
-private:
+  private:
     std::string path_;
 };
 

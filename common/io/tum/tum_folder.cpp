@@ -14,7 +14,6 @@
 #include <sstream>
 #include <utility>
 
-
 namespace df::io {
 namespace fs = std::filesystem;
 

@@ -2,7 +2,8 @@
 /// Reading RGB-D sequences in the TUM RGB-D layout:
 ///   <folder>/rgb.txt, depth.txt       lines "timestamp path", '#' comments
 ///   <folder>/associations.txt         optional, lines "t_rgb rgb_path t_depth depth_path"
-///   rgb/*.png (8-bit colour; JPEG accepted too), depth/*.png (16-bit, units per metre configurable)
+///   rgb/*.png (8-bit colour; JPEG accepted too), depth/*.png (16-bit, units per metre
+///   configurable)
 /// Associating rgb and depth stamps follows TUM's associate.py: all pairs within max_difference,
 /// taken greedily by smallest |t_rgb - t_depth|, one to one, then sorted by rgb stamp.
 #include <cstdint>
@@ -21,11 +22,11 @@ Result<Intrinsics> intrinsics_preset(const std::string& name);
 
 struct TumFolderConfig {
     std::string folder;
-    Intrinsics intrinsics;                ///< pixels
-    double depth_units_per_m = 5000.0;    ///< TUM: 5000; 7-Scenes/OpenNI: 1000
-    int depth_invalid_value = 0;          ///< raw values >= this (if > 0) become 0 (7-Scenes: 65535)
-    double max_difference_s = 0.02;       ///< association window
-    bool use_associations_file = true;    ///< use associations.txt when the folder has one
+    Intrinsics intrinsics;              ///< pixels
+    double depth_units_per_m = 5000.0;  ///< TUM: 5000; 7-Scenes/OpenNI: 1000
+    int depth_invalid_value = 0;        ///< raw values >= this (if > 0) become 0 (7-Scenes: 65535)
+    double max_difference_s = 0.02;     ///< association window
+    bool use_associations_file = true;  ///< use associations.txt when the folder has one
     int max_width = kMaxWidth, max_height = kMaxHeight;
 };
 
@@ -48,9 +49,11 @@ struct AssociatedPair {
     StampedPath rgb, depth;
 };
 
-/// TUM associate.py: greedy one-to-one by |t_rgb - t_depth| < max_difference_s, sorted by rgb stamp.
+/// TUM associate.py: greedy one-to-one by |t_rgb - t_depth| < max_difference_s, sorted by rgb
+/// stamp.
 std::vector<AssociatedPair> associate(const std::vector<StampedPath>& rgb,
-                                      const std::vector<StampedPath>& depth, double max_difference_s);
+                                      const std::vector<StampedPath>& depth,
+                                      double max_difference_s);
 
 struct AssociationsParse {
     std::vector<AssociatedPair> pairs;
@@ -63,7 +66,7 @@ Result<AssociationsParse> parse_associations(const std::string& file);
 /// cannot be read or no frame pairs are found; malformed lines are logged at open() and counted.
 /// next() reports a missing/corrupt/wrong-size image as kBadFrame (naming the file) and moves on.
 class TumFolderSource : public FrameSource {
-public:
+  public:
     static Result<std::unique_ptr<TumFolderSource>> open(const TumFolderConfig& config);
 
     FrameRead next() override;
@@ -76,7 +79,7 @@ public:
     /// Rewinds to the first frame (for looping playback).
     void rewind() { cursor_ = 0; }
 
-private:
+  private:
     TumFolderSource(TumFolderConfig config, std::vector<AssociatedPair> pairs,
                     std::vector<std::string> list_errors);
     TumFolderConfig config_;

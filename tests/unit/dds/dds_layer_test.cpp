@@ -40,7 +40,8 @@ TEST(DdsError, ReturnCodesBecomeStatusesWithContext) {
 }
 
 TEST(Qos, EveryProfileIsShmCompatible) {
-    for (auto profile : {QosProfile::kFrames, QosProfile::kResults, QosProfile::kStatus, QosProfile::kTap}) {
+    for (auto profile :
+         {QosProfile::kFrames, QosProfile::kResults, QosProfile::kStatus, QosProfile::kTap}) {
         QosPtr q = make_qos(profile);
         dds_history_kind_t hist;
         int32_t depth = 0;
@@ -95,8 +96,9 @@ TEST(Names, FixedCharArraysAreTruncatedAndTerminated) {
 TEST(TypeTable, EveryTypeIsKnownAndImageTypesAreLoanable) {
     for (const auto& t : all_types()) EXPECT_EQ(find_type(t.name), &t);
     EXPECT_EQ(find_type("df::msg::Nope"), nullptr);
-    for (const char* fixed : {"df::msg::RgbdFrame", "df::msg::GeometricSegments", "df::msg::ObjectSegments",
-                              "df::msg::Detections", "df::msg::CameraPose", "df::msg::StageStatus"}) {
+    for (const char* fixed :
+         {"df::msg::RgbdFrame", "df::msg::GeometricSegments", "df::msg::ObjectSegments",
+          "df::msg::Detections", "df::msg::CameraPose", "df::msg::StageStatus"}) {
         EXPECT_TRUE(find_type(fixed)->fixed_size()) << fixed << " must be fixed-size to be loaned";
     }
     EXPECT_FALSE(find_type("df::msg::CompressedImage")->fixed_size());
@@ -158,7 +160,8 @@ TEST(Cdr, TruncatedOrForeignDataIsRejected) {
     EXPECT_FALSE(from_cdr(&df_msg_RgbdFrame_desc, cdr.data(), cdr.size() / 2, out.get()).is_ok());
     std::vector<uint8_t> big_endian = cdr;
     big_endian[1] = 0;
-    EXPECT_FALSE(from_cdr(&df_msg_RgbdFrame_desc, big_endian.data(), big_endian.size(), out.get()).is_ok());
+    EXPECT_FALSE(
+        from_cdr(&df_msg_RgbdFrame_desc, big_endian.data(), big_endian.size(), out.get()).is_ok());
     // A sequence longer than its bound must not be accepted.
     df_msg_CompressedImage c{};
     std::vector<uint8_t> bytes(16, 7);
