@@ -7,5 +7,5 @@ jobs="${DF_JOBS:-$(nproc)}"
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build" -j "$jobs"
 if [ ! -f "$build/data/default/associations.txt" ]; then
-  "$build/bin/df_make_demo_data" --out "$build/data/default"
+  "$build/bin/df_make_sequence" --preset default --out "$build/data/default"
 fi

@@ -10,7 +10,7 @@ APT_PACKAGES=(
   libprotobuf-dev protobuf-compiler
   supervisor
   libgtest-dev libgmock-dev libbenchmark-dev
-  nlohmann-json3-dev libcli11-dev libzstd-dev liblz4-dev libnanoflann-dev
+  nlohmann-json3-dev libcli11-dev libzstd-dev liblz4-dev libnanoflann-dev zlib1g-dev
   python3 python3-protobuf python3-numpy python3-matplotlib
   darknet
 )

@@ -4,12 +4,15 @@
 # reader (@mcap/core).
 source "$(dirname "$0")/lib.sh"
 roudi_running || fail "no RouDi: run through ctest (fixture roudi)"
-"$BIN/df_make_demo_data" --out "$TMP/seq" --frames 30 >/dev/null 2>&1
+"$BIN/df_make_sequence" --preset default --out "$TMP/seq" --frames 30 >/dev/null 2>&1
 "$BIN/df_tap" record -o "$TMP/a.mcap" "$NS/frames" --ack rec --ns "$NS" --idle 3 >"$TMP/rec_a.out" 2>"$TMP/rec_a.err" &
 rec=$!; pids+=($rec)
+"$BIN/df_tap" record -o "$TMP/status.mcap" "$NS/stage_status" --wait 10 --idle 3 >"$TMP/rec_s.out" 2>"$TMP/rec_s.err" &
+rec_s=$!; pids+=($rec_s)
 "$BIN/df_capture" "$TMP/seq" --set "dds { ns: \"$NS\" }" --set 'playback: LOCKSTEP' \
   --set 'lockstep_stages: "rec"' >"$TMP/capture.log" 2>&1 || fail "capture failed: $(tail "$TMP/capture.log")"
 wait $rec || fail "recorder A failed: $(cat "$TMP/rec_a.err")"
+wait $rec_s || fail "status recorder failed: $(cat "$TMP/rec_s.err")"
 grep -q "30 msgs" "$TMP/rec_a.out" || fail "recorder A: $(cat "$TMP/rec_a.out")"
 pass "recorded 30 frames in lockstep"
 
@@ -59,4 +62,18 @@ ok = (len(ch) == 1 and ch[0]["decoded"] == 30 and
 if not ok:
     print("FAIL: Foxglove decoding disagrees with the sequence"); sys.exit(1)
 print("ok: Foxglove's omgidl/cdr decoder reads all 30 frames with the right seq, size and stamps")
+PY
+
+# Per-stage timings from the recording of <ns>/stage_status: capture's read and publish times.
+"$BIN/df_eval" timing "$TMP/status.mcap" --json "$TMP/timing.json" > "$TMP/timing.txt" 2>&1 \
+  || fail "df_eval timing on a recording: $(cat "$TMP/timing.txt")"
+/usr/bin/python3 - "$TMP/timing.json" <<'PY' || exit 1
+import json, sys
+timing = json.load(open(sys.argv[1]))["timing"]
+steps = timing.get("capture", {})
+ok = all(s in steps and steps[s]["count"] == 30 and steps[s]["mean_ms"] > 0 for s in ("read", "publish"))
+rows = timing
+if not ok:
+    print("FAIL: timing from the recording:", rows); sys.exit(1)
+print("ok: df_eval timing reads 30 capture timings (read, publish) from the recording")
 PY

@@ -6,7 +6,7 @@ if roudi_running; then
   echo "SKIP: a RouDi is already running on this machine; this test needs to start its own under dfsup"
   exit 77
 fi
-"$BIN/df_make_demo_data" --out "$TMP/seq" --frames 30 >/dev/null 2>&1
+"$BIN/df_make_sequence" --preset default --out "$TMP/seq" --frames 30 >/dev/null 2>&1
 cat > "$TMP/pipeline.pbtxt" <<PB
 name: "supervisor-test"
 service {

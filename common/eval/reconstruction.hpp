@@ -1,0 +1,46 @@
+#pragma once
+/// Reconstruction quality: accuracy and completeness of a reconstructed point set against a
+/// ground-truth surface sampled as points, by nearest neighbours (nanoflann k-d trees).
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <vector>
+
+#include "core/status.hpp"
+#include "eval/stats.hpp"
+
+namespace df::eval {
+
+struct ReconstructionConfig {
+    /// A point counts as matched when its nearest neighbour on the other set is at most this far.
+    /// 5 cm: the "completion ratio" threshold of room-scale RGB-D SLAM papers (NICE-SLAM,
+    /// Co-SLAM), and safely above the distances that sampling alone causes against a ground truth
+    /// sampled every 2 cm (up to ~2 cm for a perfect surface; see docs/evaluation.md).
+    double threshold_m = 0.05;
+};
+
+struct ReconstructionResult {
+    double threshold_m = 0;
+    double accuracy = 0;      ///< fraction of reconstructed points within threshold of the GT
+    double completeness = 0;  ///< fraction of GT points within threshold of the reconstruction
+    double f_score = 0;       ///< harmonic mean of accuracy and completeness (0 if both are 0)
+    ErrorStats est_to_gt_m;   ///< nearest-GT distance of every reconstructed point
+    ErrorStats gt_to_est_m;   ///< nearest-reconstruction distance of every GT point
+    size_t est_points = 0;
+    size_t gt_points = 0;
+};
+
+/// Distance from every point of `from` to its nearest neighbour in `to` (metres). `to` non-empty.
+std::vector<double> nearest_distances(const std::vector<Eigen::Vector3d>& from,
+                                      const std::vector<Eigen::Vector3d>& to);
+
+/// Scores `est` (already in the GT frame) against `gt`. kInvalidArgument if either is empty or
+/// the threshold is not positive.
+Result<ReconstructionResult> score_reconstruction(const std::vector<Eigen::Vector3d>& gt,
+                                                  const std::vector<Eigen::Vector3d>& est,
+                                                  const ReconstructionConfig& config = {});
+
+/// Applies gt_T_est to every point.
+std::vector<Eigen::Vector3d> transform_points(const Eigen::Isometry3d& gt_T_est,
+                                              const std::vector<Eigen::Vector3d>& points);
+
+}  // namespace df::eval

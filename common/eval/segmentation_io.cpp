@@ -1,0 +1,155 @@
+// Reading a sequence's instance ground truth and a folder of predicted masks.
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "eval/segmentation.hpp"
+#include "eval/trajectory_metrics.hpp"
+#include "io/tum/tum_folder.hpp"
+
+namespace df::eval {
+
+namespace fs = std::filesystem;
+
+Result<std::vector<GtInstance>> read_instances_json(const std::string& file) {
+    std::ifstream in(file);
+    if (!in) return error(StatusCode::kNotFound, file + ": cannot open instances file");
+    nlohmann::json doc;
+    try {
+        doc = nlohmann::json::parse(in);
+    } catch (const nlohmann::json::exception& e) {
+        return error(StatusCode::kInvalidArgument, file + ": not valid JSON: " + e.what());
+    }
+    if (!doc.is_object() || !doc.contains("instances") || !doc["instances"].is_array()) {
+        return error(StatusCode::kInvalidArgument,
+                     file + ": expected an object with an array \"instances\"");
+    }
+    std::vector<GtInstance> instances;
+    for (size_t i = 0; i < doc["instances"].size(); ++i) {
+        const nlohmann::json& e = doc["instances"][i];
+        const std::string where = file + ": instances[" + std::to_string(i) + "]: ";
+        if (!e.is_object() || !e.contains("id") || !e["id"].is_number_integer()) {
+            return error(StatusCode::kInvalidArgument, where + "expected an integer \"id\"");
+        }
+        GtInstance inst;
+        inst.id = e["id"].get<int>();
+        if (inst.id < 1 || inst.id > 65535) {
+            return error(StatusCode::kInvalidArgument,
+                         where + "id " + std::to_string(inst.id) + " is outside 1..65535");
+        }
+        inst.name = e.value("name", "id" + std::to_string(inst.id));
+        inst.class_name = e.value("class_name", std::string());
+        if (e.contains("class_id") && e["class_id"].is_number_integer()) {
+            inst.class_id = e["class_id"].get<int>();
+        }
+        const std::string kind = e.value("kind", std::string("unknown"));
+        if (kind == "rigid") {
+            inst.kind = InstanceKind::kRigid;
+        } else if (kind == "non_rigid") {
+            inst.kind = InstanceKind::kNonRigid;
+        } else if (kind == "unknown") {
+            inst.kind = InstanceKind::kUnknown;
+        } else {
+            return error(StatusCode::kInvalidArgument,
+                         where + "kind '" + kind + "' is not rigid, non_rigid or unknown");
+        }
+        for (const GtInstance& other : instances) {
+            if (other.id == inst.id) {
+                return error(StatusCode::kInvalidArgument,
+                             where + "id " + std::to_string(inst.id) + " is listed twice");
+            }
+        }
+        instances.push_back(inst);
+    }
+    return instances;
+}
+
+namespace {
+
+struct StampedFile {
+    double stamp_s;
+    std::string path;
+};
+
+/// The *.png files of a folder whose names are stamps, sorted by stamp.
+Result<std::vector<StampedFile>> list_stamped_pngs(const std::string& dir) {
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) {
+        return error(StatusCode::kNotFound, dir + ": no such folder");
+    }
+    std::vector<StampedFile> files;
+    for (const auto& entry : fs::directory_iterator(dir, ec)) {
+        if (entry.path().extension() != ".png") continue;
+        double stamp = 0;
+        if (!io::parse_tum_stamp(entry.path().stem().string(), &stamp)) {
+            return error(StatusCode::kInvalidArgument,
+                         entry.path().string() + ": expected a file named <stamp>.png");
+        }
+        files.push_back({stamp, entry.path().string()});
+    }
+    if (ec) return error(StatusCode::kIoError, dir + ": cannot list: " + ec.message());
+    std::sort(files.begin(), files.end(),
+              [](const StampedFile& a, const StampedFile& b) { return a.stamp_s < b.stamp_s; });
+    return files;
+}
+
+Result<cv::Mat> read_label_png(const std::string& file) {
+    cv::Mat image;
+    try {
+        image = cv::imread(file, cv::IMREAD_UNCHANGED);
+    } catch (const cv::Exception& e) {
+        return error(StatusCode::kIoError, file + ": cannot read: " + e.what());
+    }
+    if (image.empty()) return error(StatusCode::kIoError, file + ": cannot read image");
+    return image;
+}
+
+}  // namespace
+
+Result<SegmentationResult> score_segmentation_folders(const std::string& gt_sequence_dir,
+                                                      const std::string& pred_dir,
+                                                      const SegmentationConfig& config) {
+    auto instances = read_instances_json((fs::path(gt_sequence_dir) / "instances.json").string());
+    if (!instances) return instances.status();
+    auto gt_files = list_stamped_pngs((fs::path(gt_sequence_dir) / "instances").string());
+    if (!gt_files) return gt_files.status();
+    if (gt_files->empty()) {
+        return error(StatusCode::kNotFound,
+                     gt_sequence_dir + "/instances: no ground-truth <stamp>.png files");
+    }
+    auto pred_files = list_stamped_pngs(pred_dir);
+    if (!pred_files) return pred_files.status();
+    std::vector<double> gt_stamps, pred_stamps;
+    for (const auto& f : *gt_files) gt_stamps.push_back(f.stamp_s);
+    for (const auto& f : *pred_files) pred_stamps.push_back(f.stamp_s);
+    const auto matches =
+        associate_stamps(gt_stamps, pred_stamps, {config.max_stamp_difference_s, 0.0});
+    std::vector<int> pred_of_gt(gt_files->size(), -1);
+    for (const StampMatch& m : matches) pred_of_gt[m.gt] = static_cast<int>(m.est);
+
+    SegmentationScorer scorer(*instances, config);
+    for (size_t i = 0; i < gt_files->size(); ++i) {
+        auto gt = read_label_png((*gt_files)[i].path);
+        if (!gt) return gt.status();
+        cv::Mat pred;
+        if (pred_of_gt[i] >= 0) {
+            const std::string& pred_file = (*pred_files)[static_cast<size_t>(pred_of_gt[i])].path;
+            auto read = read_label_png(pred_file);
+            if (!read) return read.status();
+            pred = *read;
+            DF_RETURN_IF_ERROR(scorer.add_frame(
+                *gt, pred, (*gt_files)[i].path + " (prediction " + pred_file + ")"));
+        } else {
+            scorer.add_missing_frame();
+            if (!config.skip_missing) {
+                DF_RETURN_IF_ERROR(scorer.add_frame(*gt, pred, (*gt_files)[i].path));
+            }
+        }
+    }
+    for (size_t k = matches.size(); k < pred_files->size(); ++k) scorer.add_unpaired_prediction();
+    return scorer.result();
+}
+
+}  // namespace df::eval

@@ -1,0 +1,43 @@
+#pragma once
+/// The subcommands of df_eval: each loads its inputs, calls the df_eval library, prints a table
+/// and writes the JSON / PNG asked for. They return the process exit code (0 ok, 1 failed).
+#include <string>
+#include <vector>
+
+#include "eval/reconstruction.hpp"
+#include "eval/segmentation.hpp"
+#include "eval/trajectory_metrics.hpp"
+
+namespace df::eval_cli {
+
+struct Outputs {
+    std::string json_file;  ///< empty: none
+    std::string plot_file;  ///< empty: none
+};
+
+int cmd_ate(const std::string& gt, const std::string& est, const eval::AssociationConfig& config,
+            const Outputs& out);
+int cmd_rpe(const std::string& gt, const std::string& est, const eval::RpeConfig& config,
+            const Outputs& out);
+int cmd_object(const std::string& gt, const std::string& est,
+               const eval::AssociationConfig& association, const eval::RpeConfig& rpe,
+               const Outputs& out);
+/// `transform`: empty, or "tx ty tz qx qy qz qw" (gt_T_est) applied to the estimate first.
+int cmd_recon(const std::string& gt_ply, const std::string& est_ply,
+              const eval::ReconstructionConfig& config, const std::string& transform,
+              const Outputs& out);
+int cmd_seg(const std::string& gt_sequence, const std::string& pred_dir,
+            const eval::SegmentationConfig& config, const Outputs& out);
+int cmd_timing(const std::vector<std::string>& logs, const Outputs& out);
+
+struct RunOptions {
+    eval::AssociationConfig association;
+    eval::ReconstructionConfig reconstruction;
+    eval::SegmentationConfig segmentation;
+    bool plots = true;
+    bool align_map = true;  ///< move map.ply into the GT frame with the camera ATE alignment
+};
+/// Scores whatever RUN_DIR holds against SEQ_DIR; writes RUN_DIR/eval.json and eval_*.png.
+int cmd_run(const std::string& sequence_dir, const std::string& run_dir, const RunOptions& options);
+
+}  // namespace df::eval_cli
