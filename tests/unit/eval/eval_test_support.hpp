@@ -1,4 +1,5 @@
 #pragma once
+#include "temp_folder.hpp"
 /// Helpers for the df_eval tests: a temporary folder, smooth synthetic trajectories, running
 /// a command and reading JSON.
 #include <gtest/gtest.h>
@@ -20,29 +21,7 @@
 
 namespace df::eval::test {
 
-class TempFolder {
-  public:
-    TempFolder() {
-        static std::atomic<int> counter{0};
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        const std::string name = std::string("df_eval_") + (info ? info->name() : "x") + "_" +
-                                 std::to_string(::getpid()) + "_" + std::to_string(counter++);
-        path_ = std::filesystem::temp_directory_path() / name;
-        std::filesystem::remove_all(path_);
-        std::filesystem::create_directories(path_);
-    }
-    ~TempFolder() {
-        std::error_code ec;
-        std::filesystem::remove_all(path_, ec);
-    }
-    TempFolder(const TempFolder&) = delete;
-    TempFolder& operator=(const TempFolder&) = delete;
-    std::string str() const { return path_.string(); }
-    std::string operator/(const std::string& relative) const { return (path_ / relative).string(); }
-
-  private:
-    std::filesystem::path path_;
-};
+using df::test::TempFolder;  // tests/support/temp_folder.hpp
 
 inline void write_file(const std::string& path, const std::string& text) {
     std::filesystem::create_directories(std::filesystem::path(path).parent_path());

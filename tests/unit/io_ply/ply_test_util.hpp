@@ -1,4 +1,5 @@
 #pragma once
+#include "temp_folder.hpp"
 /// Helpers for the df_io_ply tests: a temporary folder, writing and reading raw bytes.
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -11,28 +12,7 @@
 
 namespace df::io::test {
 
-class TempFolder {
-  public:
-    TempFolder() {
-        static std::atomic<int> counter{0};
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        path_ = std::filesystem::temp_directory_path() /
-                (std::string("df_io_ply_") + (info ? info->name() : "x") + "_" +
-                 std::to_string(::getpid()) + "_" + std::to_string(counter++));
-        std::filesystem::remove_all(path_);
-        std::filesystem::create_directories(path_);
-    }
-    ~TempFolder() {
-        std::error_code ec;
-        std::filesystem::remove_all(path_, ec);
-    }
-    TempFolder(const TempFolder&) = delete;
-    TempFolder& operator=(const TempFolder&) = delete;
-    std::string operator/(const std::string& relative) const { return (path_ / relative).string(); }
-
-  private:
-    std::filesystem::path path_;
-};
+using df::test::TempFolder;  // tests/support/temp_folder.hpp
 
 inline void write_file(const std::string& path, const std::string& bytes) {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);

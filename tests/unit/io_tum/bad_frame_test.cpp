@@ -7,7 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "io/tum/tum_folder.hpp"
-#include "temp_folder.hpp"
+#include "tum_test_util.hpp"
 
 namespace df::io {
 namespace {

@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "io/tum/tum_folder.hpp"
-#include "temp_folder.hpp"
+#include "tum_test_util.hpp"
 
 namespace df::io {
 namespace {

@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "temp_folder.hpp"
+#include "tum_test_util.hpp"
 
 namespace df::io {
 namespace {

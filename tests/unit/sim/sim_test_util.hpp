@@ -1,4 +1,5 @@
 #pragma once
+#include "temp_folder.hpp"
 /// Helpers for the simulator tests: temporary folders, reading a generated sequence folder back
 /// (independently of the generator's own code where it matters), nearest-point queries.
 #include <gtest/gtest.h>
@@ -22,28 +23,7 @@
 
 namespace df::sim::test {
 
-class TempFolder {
-  public:
-    explicit TempFolder(const std::string& tag = "") {
-        static std::atomic<int> counter{0};
-        path_ =
-            std::filesystem::temp_directory_path() /
-            ("df_sim_" + tag + "_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-        std::filesystem::remove_all(path_);
-        std::filesystem::create_directories(path_);
-    }
-    ~TempFolder() {
-        std::error_code ec;
-        std::filesystem::remove_all(path_, ec);
-    }
-    TempFolder(const TempFolder&) = delete;
-    TempFolder& operator=(const TempFolder&) = delete;
-    std::string str() const { return path_.string(); }
-    std::string operator/(const std::string& relative) const { return (path_ / relative).string(); }
-
-  private:
-    std::filesystem::path path_;
-};
+using df::test::TempFolder;  // tests/support/temp_folder.hpp
 
 inline std::string read_text(const std::string& file) {
     std::ifstream in(file, std::ios::binary);

@@ -1,4 +1,5 @@
 #pragma once
+#include "temp_folder.hpp"
 /// Test helpers: a temporary folder removed at the end of the test, small synthetic frames,
 /// and writing text files.
 #include <gtest/gtest.h>
@@ -16,31 +17,7 @@
 
 namespace df::io::test {
 
-class TempFolder {
-  public:
-    TempFolder() {
-        static std::atomic<int> counter{0};
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        const std::string name = std::string("df_io_tum_") + (info ? info->name() : "x") + "_" +
-                                 std::to_string(::getpid()) + "_" + std::to_string(counter++);
-        path_ = std::filesystem::temp_directory_path() / name;
-        std::filesystem::remove_all(path_);
-        std::filesystem::create_directories(path_);
-    }
-    ~TempFolder() {
-        std::error_code ec;
-        std::filesystem::remove_all(path_, ec);
-    }
-    TempFolder(const TempFolder&) = delete;
-    TempFolder& operator=(const TempFolder&) = delete;
-
-    const std::filesystem::path& path() const { return path_; }
-    std::string str() const { return path_.string(); }
-    std::string operator/(const std::string& relative) const { return (path_ / relative).string(); }
-
-  private:
-    std::filesystem::path path_;
-};
+using df::test::TempFolder;  // tests/support/temp_folder.hpp
 
 inline void write_file(const std::string& path, const std::string& text) {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
