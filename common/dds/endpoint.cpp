@@ -67,16 +67,20 @@ Status wait_for_matches(dds_entity_t endpoint, bool is_writer, uint32_t n, dds_d
     const dds_time_t deadline = dds_time() + timeout;
     while (true) {
         const uint32_t have = is_writer ? matched_readers(endpoint) : matched_writers(endpoint);
-        if (have >= n) return Status::ok();
+        if (have >= n) break;
         if (dds_time() >= deadline) {
-            return Status(StatusCode::kTimeout, std::string("waited ") +
-                                                    std::to_string(timeout / DDS_NSECS_IN_MSEC) +
-                                                    " ms for " + std::to_string(n) +
-                                                    (is_writer ? " reader(s)" : " writer(s)") +
-                                                    ", found " + std::to_string(have));
+            return Status(StatusCode::kTimeout,
+                          std::string("waited ") + std::to_string(timeout / DDS_NSECS_IN_MSEC) +
+                              " ms for " + std::to_string(n) +
+                              (is_writer ? " reader(s)" : " writer(s)") + ", found " +
+                              std::to_string(have));
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
+    // Over shared memory DDS reports the match a little before the peer's iceoryx subscription is
+    // connected; a sample sent in between is lost (seen under load). Give it time to connect.
+    if (dds_is_shared_memory_available(endpoint)) std::this_thread::sleep_for(kShmConnectSettle);
+    return Status::ok();
 }
 
 }  // namespace df::dds

@@ -3,6 +3,7 @@
 /// with the project's QoS, and the log line that says which path (loan / copy / network) is used.
 #include <dds/ddsc/dds_loan_api.h>
 
+#include <chrono>
 #include <string>
 
 #include "dds/entity.hpp"
@@ -29,7 +30,11 @@ Result<Entity> create_reader(const Participant& participant, const dds_topic_des
 uint32_t matched_readers(dds_entity_t writer);
 uint32_t matched_writers(dds_entity_t reader);
 
-/// Waits until a writer has at least n matched readers (or a reader n writers).
+/// Time for iceoryx subscriptions to connect after DDS reports a shared-memory match.
+inline constexpr std::chrono::milliseconds kShmConnectSettle{300};
+
+/// Waits until a writer has at least n matched readers (or a reader n writers), and over shared
+/// memory until they are connected (kShmConnectSettle).
 Status wait_for_matches(dds_entity_t endpoint, bool is_writer, uint32_t n, dds_duration_t timeout);
 
 }  // namespace df::dds

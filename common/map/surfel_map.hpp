@@ -1,0 +1,149 @@
+#pragma once
+/// The surfel map of ElasticFusion-style SLAM: a set of oriented discs (surfels) in the world
+/// frame and the rules that fuse a camera frame into it. Plain matrices in, plain structs out:
+/// it knows nothing of tracking, preprocessing or DDS.
+///
+/// Conventions:
+/// - Camera frame: x right, y down, z forward (optical axis), metres. World frame: metres.
+/// - A surfel normal points towards the cameras that saw it (as the input normal maps do).
+/// - Storage is an array of structs (one `Surfel`, 52 bytes, per element): fusion touches every
+///   field of a surfel at once, so the fields of one surfel are best kept in one cache line.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstddef>
+#include <cstdint>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "core/status.hpp"
+
+namespace df::map {
+
+/// One oriented disc of the map.
+struct Surfel {
+    Eigen::Vector3f position;  ///< world frame, metres
+    Eigen::Vector3f normal;    ///< world frame, unit length, towards the observing cameras
+    Eigen::Vector3f colour;    ///< red, green, blue, 0..255 (float so that averaging is exact)
+    float radius = 0.f;        ///< disc radius, metres
+    float confidence = 0.f;    ///< sum of the weights of the observations fused into it
+    int init_frame = 0;        ///< frame index that created it
+    int last_seen_frame = 0;   ///< last frame index that fused an observation into it
+};
+
+/// Pinhole camera model of the fused images, in pixels (pixel centres at integer coordinates).
+struct PinholeIntrinsics {
+    float fx = 0.f, fy = 0.f, cx = 0.f, cy = 0.f;
+};
+
+/// Fusion parameters; defaults are those of ElasticFusion (FACTS.md §5).
+struct SurfelMapConfig {
+    /// A surfel is stable once its confidence reaches this value (sum of observation weights).
+    float stable_confidence = 10.f;
+    /// Weight of an observation at normalised radius r: exp(-r^2 / (2 sigma^2)), where r is the
+    /// pixel's distance to the principal point divided by half the image diagonal (r = d / 400
+    /// for 640x480, r = 1 at the corners of a centred image). sigma = 0.6 gives exp(-r^2/0.72).
+    float confidence_sigma = 0.6f;
+    /// Association gates: |surfel depth - measured depth| along the camera z axis, metres, and
+    /// the angle between the surfel normal and the measured normal (both in the world frame),
+    /// radians.
+    float max_depth_difference_m = 0.05f;
+    float max_normal_angle_rad = 0.5f;
+    /// An associated observation changes the surfel's geometry only when its radius is below
+    /// this factor times the surfel's radius; otherwise only the confidence and the time grow.
+    float merge_radius_factor = 1.5f;
+    /// Radius of a new observation: z / f * sqrt(2) / max(|n_z|, min_abs_normal_z), with f the
+    /// mean focal length and n_z the camera-frame normal's z. The floor 0.2 bounds the radius of
+    /// grazing observations at 5x that of a fronto-parallel one.
+    float min_abs_normal_z = 0.2f;
+    /// Unstable surfels (confidence < stable_confidence) whose age (frame - init_frame) exceeds
+    /// this many frames are removed by clean().
+    int unstable_max_age_frames = 20;
+    /// Surfels not seen for more than this many frames are inactive: they are not projected for
+    /// association (they stay in the map for loop closure and export).
+    int active_time_window_frames = 200;
+    /// Capacity. When full, observations that would create a surfel are dropped and counted
+    /// (FusionStats::rejected_by_capacity, SurfelMap::total_rejected_by_capacity()); fusion
+    /// into existing surfels and removal go on, so space frees up as unstable surfels age out.
+    size_t max_surfels = 2'000'000;
+};
+
+/// What one call of fuse() did.
+struct FusionStats {
+    size_t fused = 0;                 ///< observations merged into an existing surfel
+    size_t created = 0;               ///< new surfels
+    size_t removed = 0;               ///< surfels removed by clean()
+    size_t rejected_by_capacity = 0;  ///< observations dropped because the map was full
+    size_t total = 0;                 ///< surfels in the map afterwards
+    size_t stable = 0;                ///< stable surfels in the map afterwards
+};
+
+class SurfelMap {
+  public:
+    explicit SurfelMap(SurfelMapConfig config = {});
+
+    /// Fuses one frame into the map, then calls clean(frame_index).
+    /// - vertex_map_cam: CV_32FC3, camera frame, metres; a pixel is invalid if not finite or
+    ///   z <= 0.
+    /// - normal_map_cam: CV_32FC3, camera frame, unit, towards the camera; invalid if not finite
+    ///   or (0,0,0).
+    /// - rgb: CV_8UC3 in R,G,B channel order.
+    /// - mask: empty, or CV_8UC1 where non-zero means "leave this pixel out" (e.g. people).
+    /// - index_map: empty, or CV_32SC1 with the index of the surfel the model prediction sees at
+    ///   each pixel (-1 for none), valid for the map as it is before this call. If empty, the
+    ///   active surfels are projected with world_T_camera into a z-buffer of their indices.
+    /// - frame_index: increasing frame counter (the time of the surfels).
+    /// All images have the same size. A pixel is fused into its associated surfel if both
+    /// association gates pass, otherwise it creates a surfel (if there is room).
+    /// kInvalidArgument naming the bad input for wrong types or sizes or non-positive focal
+    /// lengths; the map is not changed then. Surfel indices change (compaction) on every call.
+    Result<FusionStats> fuse(const cv::Mat& vertex_map_cam, const cv::Mat& normal_map_cam,
+                             const cv::Mat& rgb, const cv::Mat& mask, const cv::Mat& index_map,
+                             const Eigen::Isometry3f& world_T_camera,
+                             const PinholeIntrinsics& intrinsics, int frame_index);
+
+    /// Removes unstable surfels older than config.unstable_max_age_frames (relative to
+    /// frame_index); returns how many were removed. Keeps the order of the others.
+    /// TODO(issue 4): free-space violations (surfels seen in front of measured depth) are not
+    /// removed yet.
+    size_t clean(int frame_index);
+
+    size_t size() const { return surfels_.size(); }
+    size_t stable_count() const;
+    const std::vector<Surfel>& surfels() const { return surfels_; }
+    const SurfelMapConfig& config() const { return config_; }
+    bool is_stable(const Surfel& s) const { return s.confidence >= config_.stable_confidence; }
+    /// True if the surfel was seen within the active time window before frame_index.
+    bool is_active(const Surfel& s, int frame_index) const {
+        return frame_index - s.last_seen_frame <= config_.active_time_window_frames;
+    }
+    /// Indices of the active surfels at frame_index.
+    std::vector<size_t> active(int frame_index) const;
+
+    /// True once an observation has been dropped because the map was full.
+    bool capacity_reached() const { return total_rejected_by_capacity_ > 0; }
+    /// Observations dropped for lack of capacity since construction.
+    uint64_t total_rejected_by_capacity() const { return total_rejected_by_capacity_; }
+
+    /// Writes the map (world frame) as a binary little-endian PLY: x y z, nx ny nz,
+    /// red green blue (uchar), radius, confidence (float). Only stable surfels if stable_only.
+    /// Errors of io::write_ply (kIoError naming the file).
+    Status write_ply(const std::string& file, bool stable_only = true) const;
+
+  private:
+    /// Fills zbuffer_index_ with, per pixel, the nearest active surfel projecting there (-1 if
+    /// none).
+    void project_active(const Eigen::Isometry3f& camera_T_world, const PinholeIntrinsics& k,
+                        int width, int height, int frame_index);
+
+    SurfelMapConfig config_;
+    std::vector<Surfel> surfels_;
+    uint64_t total_rejected_by_capacity_ = 0;
+    // Reused across frames so that fuse() allocates only when the image size grows.
+    std::vector<int32_t> zbuffer_index_;
+    std::vector<float> zbuffer_depth_;
+    std::vector<float> weight_u_;  ///< per column and per row factors of the observation weight
+    std::vector<float> weight_v_;
+};
+
+}  // namespace df::map

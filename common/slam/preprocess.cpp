@@ -1,0 +1,98 @@
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+#include "slam/depth_maps.hpp"
+#include "slam/frame.hpp"
+
+namespace df::slam {
+
+std::string validate(const PreprocessConfig& c) {
+    std::ostringstream msg;
+    if (!(c.min_depth_m > 0.f && c.max_depth_m > c.min_depth_m)) {
+        msg << "need 0 < min_depth_m < max_depth_m, got min_depth_m=" << c.min_depth_m
+            << " max_depth_m=" << c.max_depth_m;
+    } else if (!(c.bilateral_sigma_space_px > 0.f && c.bilateral_sigma_depth_m > 0.f)) {
+        msg << "bilateral sigmas must be > 0, got bilateral_sigma_space_px="
+            << c.bilateral_sigma_space_px
+            << " bilateral_sigma_depth_m=" << c.bilateral_sigma_depth_m;
+    } else if (c.bilateral_radius_px < 0 || c.bilateral_radius_px > 16) {
+        msg << "bilateral_radius_px must be in 0..16, got " << c.bilateral_radius_px;
+    } else if (c.pyramid_levels < 1 || c.pyramid_levels > 8) {
+        msg << "pyramid_levels must be in 1..8, got " << c.pyramid_levels;
+    } else if (!(c.pyramid_max_depth_diff_m > 0.f)) {
+        msg << "pyramid_max_depth_diff_m must be > 0, got " << c.pyramid_max_depth_diff_m;
+    }
+    return msg.str();
+}
+
+namespace {
+
+std::string validate_image(const io::RgbdImage& image, int levels) {
+    std::ostringstream msg;
+    const std::string where =
+        image.depth_path.empty() ? std::string() : " (" + image.depth_path + ")";
+    if (image.depth.empty() || image.depth.type() != CV_16UC1) {
+        msg << "depth must be a non-empty CV_16UC1 image" << where;
+    } else if (image.rgb.type() != CV_8UC3 || image.rgb.size() != image.depth.size()) {
+        msg << "rgb must be CV_8UC3 of the depth's size " << image.depth.cols << "x"
+            << image.depth.rows << ", got " << image.rgb.cols << "x" << image.rgb.rows << " type "
+            << image.rgb.type() << where;
+    } else if (!(image.depth_units_per_m > 0.0)) {
+        msg << "depth_units_per_m must be > 0, got " << image.depth_units_per_m << where;
+    } else if (!(image.intrinsics.fx > 0.0 && image.intrinsics.fy > 0.0)) {
+        msg << "focal lengths must be > 0, got fx=" << image.intrinsics.fx
+            << " fy=" << image.intrinsics.fy;
+    } else if ((image.depth.cols >> (levels - 1)) < 8 || (image.depth.rows >> (levels - 1)) < 8) {
+        msg << "image " << image.depth.cols << "x" << image.depth.rows << " too small for "
+            << levels << " pyramid levels (coarsest must be at least 8x8)";
+    }
+    return msg.str();
+}
+
+// Vertices, normals and intensity gradients of a level whose depths and intensity are set.
+void finish_level(FrameLevel& level) {
+    level.vertex = compute_vertex_map(level.depth_m, level.intrinsics);
+    level.normal = compute_normal_map(compute_vertex_map(level.smoothed_depth_m, level.intrinsics));
+    cv::Sobel(level.intensity, level.grad_x, CV_32F, 1, 0, 3, 1.0 / 8.0);
+    cv::Sobel(level.intensity, level.grad_y, CV_32F, 0, 1, 3, 1.0 / 8.0);
+}
+
+}  // namespace
+
+Result<Frame> preprocess(const io::RgbdImage& image, const PreprocessConfig& config) {
+    if (std::string bad = validate(config); !bad.empty()) {
+        return error(StatusCode::kInvalidArgument, "PreprocessConfig: " + bad);
+    }
+    if (std::string bad = validate_image(image, config.pyramid_levels); !bad.empty()) {
+        return error(StatusCode::kInvalidArgument,
+                     "preprocess frame " + std::to_string(image.index) + ": " + bad);
+    }
+    Frame frame;
+    frame.sensor_ns = image.sensor_ns;
+    frame.index = image.index;
+    frame.levels.resize(static_cast<size_t>(config.pyramid_levels));
+
+    FrameLevel& base = frame.levels[0];
+    base.intrinsics = image.intrinsics;
+    base.depth_m = depth_to_metres(image.depth, image.depth_units_per_m, config.min_depth_m,
+                                   config.max_depth_m);
+    base.smoothed_depth_m =
+        bilateral_filter_depth(base.depth_m, config.bilateral_sigma_space_px,
+                               config.bilateral_sigma_depth_m, config.bilateral_radius_px);
+    base.intensity = rgb_to_intensity(image.rgb);
+    finish_level(base);
+
+    for (size_t l = 1; l < frame.levels.size(); ++l) {
+        const FrameLevel& finer = frame.levels[l - 1];
+        FrameLevel& level = frame.levels[l];
+        level.intrinsics = scale_intrinsics(image.intrinsics, static_cast<int>(l));
+        level.depth_m = downsample_depth(finer.depth_m, config.pyramid_max_depth_diff_m);
+        level.smoothed_depth_m =
+            downsample_depth(finer.smoothed_depth_m, config.pyramid_max_depth_diff_m);
+        cv::pyrDown(finer.intensity, level.intensity, level.depth_m.size());
+        finish_level(level);
+    }
+    return frame;
+}
+
+}  // namespace df::slam
