@@ -21,6 +21,17 @@ const char* to_string(InstanceKind kind) {
 
 namespace {
 
+double ratio(double num, size_t den) { return den ? num / static_cast<double>(den) : 0.0; }
+
+/// The mean figures of an instance's or a kind's sums (both kinds of score carry the same four).
+template <typename Sums, typename Score>
+void fill_means(const Sums& s, Score* out) {
+    out->mean_iou = ratio(s.iou, s.visible);
+    out->mean_precision = ratio(s.precision, s.matched);
+    out->mean_recall = ratio(s.recall, s.visible);
+    out->detection_recall = ratio(static_cast<double>(s.matched), s.visible);
+}
+
 struct Overlaps {
     std::map<int, size_t> gt_px, pred_px;         // by id / label (0 excluded)
     std::map<std::pair<int, int>, size_t> joint;  // (gt id, pred label), both non-zero
@@ -154,7 +165,6 @@ SegmentationResult SegmentationScorer::result() const {
     r.predictions_without_gt = unpaired_;
     r.predicted_segments = segments_;
     r.false_positive_segments = false_positives_;
-    auto ratio = [](double num, size_t den) { return den ? num / static_cast<double>(den) : 0.0; };
     const char* kind_names[] = {"rigid", "non_rigid", "unknown", "all"};
     std::vector<Sums> kind_sums(4);
     std::vector<size_t> kind_instances(4, 0);
@@ -165,10 +175,7 @@ SegmentationResult SegmentationScorer::result() const {
         score.instance = instances_[i];
         score.frames_visible = s.visible;
         score.frames_matched = s.matched;
-        score.mean_iou = ratio(s.iou, s.visible);
-        score.mean_precision = ratio(s.precision, s.matched);
-        score.mean_recall = ratio(s.recall, s.visible);
-        score.detection_recall = ratio(static_cast<double>(s.matched), s.visible);
+        fill_means(s, &score);
         r.instances.push_back(score);
         for (size_t k : {static_cast<size_t>(instances_[i].kind), size_t{3}}) {
             Sums& ks = kind_sums[k];
@@ -191,10 +198,7 @@ SegmentationResult SegmentationScorer::result() const {
         summary.instances = kind_instances[k];
         summary.visible = ks.visible;
         summary.matched = ks.matched;
-        summary.mean_iou = ratio(ks.iou, ks.visible);
-        summary.mean_precision = ratio(ks.precision, ks.matched);
-        summary.mean_recall = ratio(ks.recall, ks.visible);
-        summary.detection_recall = ratio(static_cast<double>(ks.matched), ks.visible);
+        fill_means(ks, &summary);
         r.kinds.push_back(summary);
     }
     r.detection_recall = r.kinds.back().detection_recall;

@@ -155,14 +155,11 @@ TEST(CaptureBadInput, CorruptPngCostsOneFrameAndOneErrorLine) {
     const std::string bad = seq + "/" + (*source)->pairs()[4].rgb.path;
     { std::ofstream(bad, std::ios::trunc) << "this is not a PNG"; }
 
-    dds::ParticipantConfig pc;
-    pc.transport = dds::Transport::kSharedMemory;
-    auto p = dds::Participant::create(pc);
-    ASSERT_TRUE(p.is_ok());
+    dds::Participant p = test::shm_participant();
     const std::string ns = test::unique_ns("corrupt");
     test::ChildProcess capture(capture_args(seq, ns, "shm", 0), dir.path() + "/capture.log");
     const std::vector<int> index = {0, 1, 2, 3, 5, 6, 7, 8, 9};
-    const Received got = receive(*p, ns, frames, index, capture);
+    const Received got = receive(p, ns, frames, index, capture);
     EXPECT_EQ(capture.wait(30), 0);
     EXPECT_EQ(got.seqs.size(), index.size());
     EXPECT_EQ(got.intact, static_cast<int>(index.size()));
@@ -186,10 +183,7 @@ TEST(CaptureOpenNi, VirtualCameraFramesArriveIntact) {
         e.depth.convertTo(mm, CV_16UC1, 1000.0 / 5000.0);  // rounds to nearest, as the driver does
         e.depth = mm;
     }
-    dds::ParticipantConfig pc;
-    pc.transport = dds::Transport::kSharedMemory;
-    auto p = dds::Participant::create(pc);
-    ASSERT_TRUE(p.is_ok());
+    dds::Participant p = test::shm_participant();
     const std::string ns = test::unique_ns("openni");
     auto args = capture_args("", ns, "shm", 0);
     args.erase(args.begin() + 1);  // no folder
@@ -199,7 +193,7 @@ TEST(CaptureOpenNi, VirtualCameraFramesArriveIntact) {
     std::vector<int> index(frames.size());
     for (size_t i = 0; i < index.size(); ++i) index[i] = static_cast<int>(i);
     // Stamps: the device clock is the sequence's, in microseconds (same as written).
-    const Received got = receive(*p, ns, expected, index, capture);
+    const Received got = receive(p, ns, expected, index, capture);
     capture.kill(SIGINT);  // a camera never ends by itself: stop it like a user would
     EXPECT_EQ(capture.wait(20), 0) << capture.output();
     ASSERT_EQ(got.seqs.size(), frames.size()) << capture.output();
@@ -216,14 +210,11 @@ TEST(CaptureBadInput, MalformedListLineIsNamedAndTheRunGoesOn) {
         std::ofstream(seq + "/associations.txt", std::ios::app)
             << "1.5 rgb/x.png not-a-stamp depth/x.png\n";
     }
-    dds::ParticipantConfig pc;
-    pc.transport = dds::Transport::kSharedMemory;
-    auto p = dds::Participant::create(pc);
-    ASSERT_TRUE(p.is_ok());
+    dds::Participant p = test::shm_participant();
     const std::string ns = test::unique_ns("badline");
     test::ChildProcess capture(capture_args(seq, ns, "shm", 0), dir.path() + "/capture.log");
     const std::vector<int> index = {0, 1, 2, 3, 4, 5};
-    const Received got = receive(*p, ns, frames, index, capture);
+    const Received got = receive(p, ns, frames, index, capture);
     EXPECT_EQ(capture.wait(30), 0);
     EXPECT_EQ(got.intact, 6);
     const std::string log = capture.output();

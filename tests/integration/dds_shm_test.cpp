@@ -14,13 +14,7 @@
 namespace df::dds {
 namespace {
 
-Participant shm_participant() {
-    ParticipantConfig pc;
-    pc.transport = Transport::kSharedMemory;
-    auto p = Participant::create(pc);
-    EXPECT_TRUE(p.is_ok()) << p.status().to_string();
-    return std::move(*p);
-}
+using test::shm_participant;
 
 TEST(SharedMemory, UnwrittenLoansReturnToThePool) {
     ASSERT_TRUE(test::roudi_available());

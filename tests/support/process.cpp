@@ -1,6 +1,7 @@
 #include "process.hpp"
 
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -83,6 +84,14 @@ bool roudi_available() {
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
     return false;
+}
+
+dds::Participant shm_participant() {
+    dds::ParticipantConfig pc;
+    pc.transport = dds::Transport::kSharedMemory;
+    auto p = dds::Participant::create(pc);
+    EXPECT_TRUE(p.is_ok()) << p.status().to_string();
+    return std::move(*p);
 }
 
 TempDir::TempDir() {

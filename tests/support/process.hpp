@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "dds/participant.hpp"
+
 namespace df::test {
 
 class ChildProcess {
@@ -34,6 +36,9 @@ class ChildProcess {
 /// True when a RouDi runs (the CTest fixture "roudi" starts one; a test process cannot own
 /// it, because RouDi sends SIGTERM to every registered process when it stops).
 bool roudi_available();
+
+/// A participant on shared memory (domain 0); fails the calling test if it cannot be made.
+dds::Participant shm_participant();
 
 /// A fresh folder under $TMPDIR, removed at destruction.
 class TempDir {
