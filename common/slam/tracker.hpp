@@ -1,0 +1,124 @@
+#pragma once
+/// Frame-to-model camera tracking as ElasticFusion does it: Gauss-Newton on the sum of a
+/// geometric term (projective data association, point-to-plane ICP) and a photometric term
+/// (intensity of the model's predicted colour against the current image), coarse to fine over
+/// the frame's pyramid. DDS-free; the caller owns maps and poses.
+///
+/// Conventions: poses are world_T_camera (camera x right, y down, z forward, metres). The model
+/// view is what the map predicts at a reference pose (usually the previous frame's estimate),
+/// expressed in that reference camera's frame.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "core/status.hpp"
+#include "slam/frame.hpp"
+
+namespace df::slam {
+
+/// Every threshold of the tracker. Defaults from ElasticFusion (FACTS.md §5) unless noted.
+struct TrackingConfig {
+    /// Gauss-Newton iterations per pyramid level, finest (level 0) first. Its size must equal
+    /// the number of levels tracked (the frame's pyramid may have more; extra levels unused).
+    std::vector<int> iterations = {10, 5, 4};
+    /// Pixel step at each level (1 = every pixel, 2 = every other row and column). Lets the
+    /// caller trade accuracy for speed at the finest level without a new pyramid.
+    std::vector<int> pixel_step = {1, 1, 1};
+
+    // --- geometric term (point-to-plane ICP, projective association) ---
+    /// A frame vertex is associated with the model vertex its pose projects onto when the two
+    /// are closer than this (metres) ...
+    float icp_max_distance_m = 0.10f;
+    /// ... and the sine of the angle between their normals is below this (sin 20 deg).
+    float icp_max_normal_sin = 0.34202f;
+
+    // --- photometric term ---
+    /// Whether the photometric term is used at all (false: ICP only).
+    bool use_rgb = true;
+    /// Weight w of the ICP term in A = A_rgb + w^2 A_icp, b = b_rgb + w b_icp.
+    float icp_weight = 10.f;
+    /// Minimum gradient magnitude (intensity units per pixel, Sobel/8) of a pixel used by the
+    /// photometric term, per level finest first.
+    std::vector<float> rgb_min_gradient = {5.f, 3.f, 1.f};
+    /// A model pixel is used by the photometric term only when the frame's depth where it
+    /// projects agrees with the model depth within this (metres).
+    float rgb_max_depth_difference_m = 0.07f;
+
+    // --- robust weighting ---
+    /// Huber thresholds on the residuals: geometric in metres, photometric in intensity units.
+    /// Residuals beyond them get weight threshold / |r| (iteratively reweighted).
+    float icp_huber_m = 0.01f;
+    float rgb_huber = 10.f;
+
+    // --- convergence and failure ---
+    /// An iteration whose update is smaller than both (metres, radians) ends the level early.
+    float min_update_translation_m = 1e-5f;
+    float min_update_rotation_rad = 1e-5f;
+    /// The estimate is rejected (state kLost) when, at the finest level tracked:
+    /// - fewer than this fraction of the frame's valid pixels are ICP inliers, or
+    float min_inlier_ratio = 0.25f;
+    /// - fewer than this many ICP inliers in all, or
+    int min_inliers = 500;
+    /// - the RMS point-to-plane residual of the inliers exceeds this (metres), or
+    float max_icp_rmse_m = 0.03f;
+    /// - the ratio of smallest to largest eigenvalue of the 6x6 system is below this
+    ///   (degenerate geometry, e.g. a single plane with no texture), or
+    double min_condition = 1e-6;
+    /// - the estimate moved further than this from the initial guess (metres, radians).
+    float max_translation_m = 0.30f;
+    float max_rotation_rad = 0.50f;
+};
+
+/// Empty string when `config` is usable, else a message naming the bad field and its value.
+std::string validate(const TrackingConfig& config);
+
+/// The model as the map predicts it at the reference pose, at full (level 0) resolution.
+/// All images have the frame's level-0 size.
+struct ModelView {
+    /// CV_32FC3, reference camera frame, metres; (0,0,0) where the model has no surface.
+    cv::Mat vertex;
+    /// CV_32FC3, reference camera frame, unit, towards the camera; (0,0,0) where none.
+    cv::Mat normal;
+    /// CV_8UC3 R,G,B predicted colour; used by the photometric term (may be empty when
+    /// TrackingConfig::use_rgb is false).
+    cv::Mat colour;
+};
+
+enum class TrackingState {
+    kOk,    ///< the estimate passed every check
+    kLost,  ///< a check failed; `world_T_camera` is the initial guess, not to be fused
+};
+const char* to_string(TrackingState state);
+
+/// Per frame: the estimate and how good it is.
+struct TrackingResult {
+    TrackingState state = TrackingState::kLost;
+    /// Why the state is kLost ("" when kOk): which check failed, with the figures.
+    std::string reason;
+    /// The estimate (kOk) or the initial guess (kLost).
+    Eigen::Isometry3d world_T_camera = Eigen::Isometry3d::Identity();
+    /// Figures at the finest level tracked, after the last iteration.
+    float inlier_ratio = 0.f;  ///< ICP inliers / valid frame pixels at that level
+    int inliers = 0;           ///< ICP inliers
+    float icp_rmse_m = 0.f;    ///< RMS point-to-plane residual of the inliers
+    float rgb_rmse = 0.f;      ///< RMS photometric residual of the pixels used (0 if none)
+    int rgb_pixels = 0;        ///< pixels used by the photometric term
+    double condition = 0.0;    ///< smallest / largest eigenvalue of the last 6x6 system
+    int iterations = 0;        ///< Gauss-Newton iterations run, all levels
+};
+
+/// Tracks `frame` against `model`.
+/// - world_T_reference: the pose `model` was predicted at.
+/// - initial_world_T_camera: the starting estimate (usually world_T_reference).
+/// - mask: empty, or CV_8UC1 of the frame's level-0 size; non-zero pixels are left out of both
+///   terms (dynamic objects, people).
+/// kInvalidArgument naming the bad input (config, image types or sizes); a frame that cannot be
+/// tracked is not an error but a kLost result.
+Result<TrackingResult> track(const Frame& frame, const ModelView& model,
+                             const Eigen::Isometry3d& world_T_reference,
+                             const Eigen::Isometry3d& initial_world_T_camera, const cv::Mat& mask,
+                             const TrackingConfig& config);
+
+}  // namespace df::slam
