@@ -1,25 +1,47 @@
 #!/usr/bin/env bash
-# README command (a): set up, build, and run the main job on the built-in default data.
-# For now (until the SLAM service exists) the main job plays the default sequence through the
-# capture service over shared memory into an MCAP recording, under the supervisor, and prints
-# what arrived (frames, rate, latency).
+# README command (a): set up, build, and run the main job on the built-in default data:
+# capture -> SLAM under the supervisor over shared memory, then the ATE against the sequence's
+# ground truth and the frame rate. DF_DATA=<TUM folder> runs another sequence (fr3 intrinsics).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 if [ "$(id -u)" -eq 0 ]; then bash deploy/setup.sh; else sudo bash deploy/setup.sh; fi
 bash deploy/build.sh
 export DF_OUT="${DF_OUT:-$root/out/main}"
+export DF_DATA="${DF_DATA:-$root/build/data/default}"
 run_dir="$DF_OUT/run"
-rm -f "$DF_OUT/frames.mcap"
-deploy/dfsup --run-dir "$run_dir" up deploy/pipelines/record_default.pbtxt
+slam_out="$DF_OUT/slam"
+rm -rf "$slam_out"
+deploy/dfsup --run-dir "$run_dir" up deploy/pipelines/slam_default.pbtxt
 trap 'deploy/dfsup --run-dir "$run_dir" down >/dev/null 2>&1 || true' EXIT
 status=0
-deploy/dfsup --run-dir "$run_dir" wait recorder --timeout 300 || status=$?
+deploy/dfsup --run-dir "$run_dir" wait slam --timeout 900 || status=$?
 echo
-echo "== what arrived =="
-grep -E "^(recorded|  )" "$run_dir/logs/recorder.log" || true
+echo "== SLAM over $(basename "$DF_DATA") (capture -> slam, lockstep, shared memory) =="
 grep -E "done:|bad frame" "$run_dir/logs/capture.log" | sed 's/^[^]]*\] //' || true
+grep -E "stream ended|tracking lost|recovered" "$run_dir/logs/slam.log" | sed 's/^[^]]*\] //' || true
+if [ ! -s "$slam_out/trajectory.txt" ]; then
+  echo "no trajectory was written; see $run_dir/logs/slam.log" >&2
+  exit 1
+fi
 echo
-echo "recording: $DF_OUT/frames.mcap (open it in Foxglove Studio, or: build/bin/df_tap play $DF_OUT/frames.mcap)"
-echo "logs:      $run_dir/logs/"
+if [ -f "$DF_DATA/groundtruth.txt" ]; then
+  build/bin/df_eval ate "$DF_DATA/groundtruth.txt" "$slam_out/trajectory.txt" \
+    --json "$slam_out/ate.json" --plot "$slam_out/ate.png" || status=$?
+fi
+/usr/bin/python3 - "$slam_out/summary.json" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+st = s["stages_ms"]
+print(f"frames {s['frames']} (tracked {s['tracked']}, lost {s['lost']}); "
+      f"{s['fps']:.1f} frames/s end to end in lockstep")
+print("SLAM per frame, median / p95 ms: " + ", ".join(
+    f"{k} {v['median']:.1f} / {v['p95']:.1f}" for k, v in st.items()))
+print(f"map: {s['surfels']} surfels ({s['stable_surfels']} stable), {s['map_bytes'] / 2**20:.1f} MiB")
+PY
+echo
+echo "trajectory: $slam_out/trajectory.txt (TUM format)"
+echo "map:        $slam_out/map.ply (open in MeshLab, CloudCompare or Open3D)"
+echo "plots:      $slam_out/ate.png; figures: $slam_out/ate.json, $slam_out/summary.json"
+echo "logs:       $run_dir/logs/"
 exit $status

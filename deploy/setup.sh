@@ -14,6 +14,11 @@ APT_PACKAGES=(
   python3 python3-protobuf python3-numpy python3-matplotlib
   darknet
 )
+# Only for the benchmarks that compare with other systems (tests/bench/run_slam_bench.sh):
+# `bash deploy/setup.sh --bench`.
+if [ "${1:-}" = "--bench" ]; then
+  APT_PACKAGES+=(python3-open3d)
+fi
 
 missing=()
 for p in "${APT_PACKAGES[@]}"; do

@@ -21,7 +21,7 @@ Status check_image(const cv::Mat& image, const char* name, int type, const cv::S
 }
 
 Status check_inputs(const cv::Mat& vertex, const cv::Mat& normal, const cv::Mat& rgb,
-                    const cv::Mat& mask, const cv::Mat& index_map, const PinholeIntrinsics& k) {
+                    const cv::Mat& mask, const cv::Mat& index_map, const io::Intrinsics& k) {
     if (vertex.empty() || vertex.type() != CV_32FC3) {
         return error(StatusCode::kInvalidArgument,
                      "SurfelMap::fuse: vertex_map_cam must be a non-empty CV_32FC3 image, got " +
@@ -33,7 +33,7 @@ Status check_inputs(const cv::Mat& vertex, const cv::Mat& normal, const cv::Mat&
     DF_RETURN_IF_ERROR(check_image(rgb, "rgb", CV_8UC3, size));
     if (!mask.empty()) DF_RETURN_IF_ERROR(check_image(mask, "mask", CV_8UC1, size));
     if (!index_map.empty()) DF_RETURN_IF_ERROR(check_image(index_map, "index_map", CV_32SC1, size));
-    if (!(k.fx > 0.f) || !(k.fy > 0.f)) {
+    if (!(k.fx > 0.0) || !(k.fy > 0.0) || !std::isfinite(k.fx) || !std::isfinite(k.fy)) {
         return error(StatusCode::kInvalidArgument,
                      "SurfelMap::fuse: focal lengths must be positive, got fx=" +
                          std::to_string(k.fx) + " fy=" + std::to_string(k.fy));
@@ -62,13 +62,15 @@ std::vector<size_t> SurfelMap::active(int frame_index) const {
     return indices;
 }
 
-void SurfelMap::project_active(const Eigen::Isometry3f& camera_T_world, const PinholeIntrinsics& k,
+void SurfelMap::project_active(const Eigen::Isometry3f& camera_T_world, const io::Intrinsics& k,
                                int width, int height, int frame_index) {
     const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
     zbuffer_index_.assign(pixels, -1);
     zbuffer_depth_.assign(pixels, std::numeric_limits<float>::infinity());
     const Eigen::Matrix3f rotation = camera_T_world.linear();
     const Eigen::Vector3f translation = camera_T_world.translation();
+    const float fx = static_cast<float>(k.fx), fy = static_cast<float>(k.fy);
+    const float cx = static_cast<float>(k.cx), cy = static_cast<float>(k.cy);
     for (size_t i = 0; i < surfels_.size(); ++i) {
         const Surfel& s = surfels_[i];
         if (!is_active(s, frame_index)) continue;
@@ -76,8 +78,8 @@ void SurfelMap::project_active(const Eigen::Isometry3f& camera_T_world, const Pi
         if (!(p.z() > 0.f)) continue;
         // A surfel seen from its back must not hide the surface in front of it.
         if ((rotation * s.normal).dot(p) > 0.f) continue;
-        const float u = std::floor(k.fx * p.x() / p.z() + k.cx + 0.5f);
-        const float v = std::floor(k.fy * p.y() / p.z() + k.cy + 0.5f);
+        const float u = std::floor(fx * p.x() / p.z() + cx + 0.5f);
+        const float v = std::floor(fy * p.y() / p.z() + cy + 0.5f);
         if (!(u >= 0.f && v >= 0.f && u < static_cast<float>(width) &&
               v < static_cast<float>(height))) {
             continue;
@@ -95,7 +97,7 @@ Result<FusionStats> SurfelMap::fuse(const cv::Mat& vertex_map_cam, const cv::Mat
                                     const cv::Mat& rgb, const cv::Mat& mask,
                                     const cv::Mat& index_map,
                                     const Eigen::Isometry3f& world_T_camera,
-                                    const PinholeIntrinsics& intrinsics, int frame_index) {
+                                    const io::Intrinsics& intrinsics, int frame_index) {
     DF_RETURN_IF_ERROR(
         check_inputs(vertex_map_cam, normal_map_cam, rgb, mask, index_map, intrinsics));
     const int width = vertex_map_cam.cols;
@@ -116,14 +118,15 @@ Result<FusionStats> SurfelMap::fuse(const cv::Mat& vertex_map_cam, const cv::Mat
     weight_u_.resize(static_cast<size_t>(width));
     weight_v_.resize(static_cast<size_t>(height));
     for (int u = 0; u < width; ++u) {
-        const float du = static_cast<float>(u) - intrinsics.cx;
+        const float du = static_cast<float>(u) - static_cast<float>(intrinsics.cx);
         weight_u_[static_cast<size_t>(u)] = std::exp(du * du * weight_scale);
     }
     for (int v = 0; v < height; ++v) {
-        const float dv = static_cast<float>(v) - intrinsics.cy;
+        const float dv = static_cast<float>(v) - static_cast<float>(intrinsics.cy);
         weight_v_[static_cast<size_t>(v)] = std::exp(dv * dv * weight_scale);
     }
-    const float radius_scale = std::sqrt(2.f) * 2.f / (intrinsics.fx + intrinsics.fy);
+    const float radius_scale =
+        std::sqrt(2.f) * 2.f / static_cast<float>(intrinsics.fx + intrinsics.fy);
     const float min_normal_dot = std::cos(config_.max_normal_angle_rad);
     const size_t existing = surfels_.size();
     // Grow geometrically, never past the capacity, so that creation does not reallocate a frame.
@@ -134,6 +137,38 @@ Result<FusionStats> SurfelMap::fuse(const cv::Mat& vertex_map_cam, const cv::Mat
     }
 
     FusionStats stats;
+    // One observation per surfel per frame (as ElasticFusion's update pass): when several
+    // pixels show the same surfel (splatted index images cover a disc), the pixel nearest the
+    // surfel's projected centre updates it; the others neither update it nor duplicate it.
+    // Without this a surfel would average in a whole disc of pixels each frame, its confidence
+    // would grow many times faster than it was observed, and its position would wander.
+    owner_pixel_.assign(existing, -1);
+    owner_distance_.assign(existing, std::numeric_limits<float>::infinity());
+    const float fx = static_cast<float>(intrinsics.fx), fy = static_cast<float>(intrinsics.fy);
+    const float cx = static_cast<float>(intrinsics.cx), cy = static_cast<float>(intrinsics.cy);
+    auto candidate_at = [&](int u, int v, const int32_t* index_row) {
+        return use_index_map ? index_row[u] : zbuffer_index_[static_cast<size_t>(v) * width + u];
+    };
+    for (int v = 0; v < height; ++v) {
+        const int32_t* index_row = use_index_map ? index_map.ptr<int32_t>(v) : nullptr;
+        const uint8_t* mask_row = mask.empty() ? nullptr : mask.ptr<uint8_t>(v);
+        for (int u = 0; u < width; ++u) {
+            if (mask_row != nullptr && mask_row[u] != 0) continue;
+            const int32_t candidate = candidate_at(u, v, index_row);
+            if (candidate < 0 || static_cast<size_t>(candidate) >= existing) continue;
+            const Eigen::Vector3f p =
+                camera_R_world * surfels_[static_cast<size_t>(candidate)].position +
+                camera_t_world;
+            if (!(p.z() > 0.f)) continue;
+            const float du = fx * p.x() / p.z() + cx - static_cast<float>(u);
+            const float dv = fy * p.y() / p.z() + cy - static_cast<float>(v);
+            const float d2 = du * du + dv * dv;
+            if (d2 < owner_distance_[static_cast<size_t>(candidate)]) {
+                owner_distance_[static_cast<size_t>(candidate)] = d2;
+                owner_pixel_[static_cast<size_t>(candidate)] = v * width + u;
+            }
+        }
+    }
     for (int v = 0; v < height; ++v) {
         const auto* vertex_row = vertex_map_cam.ptr<cv::Vec3f>(v);
         const auto* normal_row = normal_map_cam.ptr<cv::Vec3f>(v);
@@ -158,13 +193,16 @@ Result<FusionStats> SurfelMap::fuse(const cv::Mat& vertex_map_cam, const cv::Mat
             const cv::Vec3b& c = rgb_row[u];
             const Eigen::Vector3f colour(c[0], c[1], c[2]);
 
-            const int32_t candidate =
-                use_index_map ? index_row[u] : zbuffer_index_[static_cast<size_t>(v) * width + u];
+            const int32_t candidate = candidate_at(u, v, index_row);
             if (candidate >= 0 && static_cast<size_t>(candidate) < existing) {
                 Surfel& s = surfels_[static_cast<size_t>(candidate)];
                 const float surfel_z = camera_R_world.row(2).dot(s.position) + camera_t_world.z();
                 if (std::abs(surfel_z - vc[2]) < config_.max_depth_difference_m &&
                     s.normal.dot(normal) > min_normal_dot) {
+                    if (owner_pixel_[static_cast<size_t>(candidate)] != v * width + u) {
+                        ++stats.covered;
+                        continue;
+                    }
                     const float sum = s.confidence + weight;
                     if (radius < config_.merge_radius_factor * s.radius) {
                         const float a = s.confidence / sum;
@@ -190,10 +228,91 @@ Result<FusionStats> SurfelMap::fuse(const cv::Mat& vertex_map_cam, const cv::Mat
         }
     }
     total_rejected_by_capacity_ += stats.rejected_by_capacity;
+    if (config_.remove_free_space) {
+        remove_free_space(vertex_map_cam, mask, camera_T_world, intrinsics, frame_index, existing,
+                          stats);
+    }
     stats.removed = clean(frame_index);
     stats.total = surfels_.size();
     stats.stable = stable_count();
     return stats;
+}
+
+void SurfelMap::remove_free_space(const cv::Mat& vertex_map_cam, const cv::Mat& mask,
+                                  const Eigen::Isometry3f& camera_T_world, const io::Intrinsics& k,
+                                  int frame_index, size_t existing, FusionStats& stats) {
+    const int width = vertex_map_cam.cols;
+    const int height = vertex_map_cam.rows;
+    // Measured depth per pixel, 0 where the frame proves nothing (invalid or masked).
+    measured_depth_.resize(static_cast<size_t>(width) * height);
+    for (int v = 0; v < height; ++v) {
+        const auto* vertex_row = vertex_map_cam.ptr<cv::Vec3f>(v);
+        const uint8_t* mask_row = mask.empty() ? nullptr : mask.ptr<uint8_t>(v);
+        float* depth_row = measured_depth_.data() + static_cast<size_t>(v) * width;
+        for (int u = 0; u < width; ++u) {
+            const cv::Vec3f& p = vertex_row[u];
+            const bool valid =
+                (mask_row == nullptr || mask_row[u] == 0) && finite3(p) && p[2] > 0.f;
+            depth_row[u] = valid ? p[2] : 0.f;
+        }
+    }
+    const Eigen::Matrix3f rotation = camera_T_world.linear();
+    const Eigen::Vector3f translation = camera_T_world.translation();
+    const float fx = static_cast<float>(k.fx), fy = static_cast<float>(k.fy);
+    const float cx = static_cast<float>(k.cx), cy = static_cast<float>(k.cy);
+    const int window = std::max(0, config_.free_space_window_px);
+    remove_flags_.assign(existing, 0);
+    size_t flagged = 0;
+    for (size_t i = 0; i < existing; ++i) {
+        Surfel& s = surfels_[i];
+        if (!is_active(s, frame_index)) continue;
+        const Eigen::Vector3f p = rotation * s.position + translation;
+        if (!(p.z() > 0.f)) continue;
+        const float uf = std::floor(fx * p.x() / p.z() + cx + 0.5f);
+        const float vf = std::floor(fy * p.y() / p.z() + cy + 0.5f);
+        // The whole window must lie in the image (also rejects NaN).
+        if (!(uf >= static_cast<float>(window) && vf >= static_cast<float>(window) &&
+              uf < static_cast<float>(width - window) &&
+              vf < static_cast<float>(height - window))) {
+            continue;
+        }
+        const int u = static_cast<int>(uf);
+        const int v = static_cast<int>(vf);
+        const float margin = std::max(config_.free_space_margin_m,
+                                      config_.free_space_margin_per_m2 * p.z() * p.z()) +
+                             s.radius;
+        // Measured depth must exceed this at every pixel of the window (0 = no evidence fails).
+        const float behind = p.z() + margin;
+        if (!(measured_depth_[static_cast<size_t>(v) * width + u] > behind)) continue;
+        bool seen_through = true;
+        for (int y = v - window; y <= v + window && seen_through; ++y) {
+            const float* row = measured_depth_.data() + static_cast<size_t>(y) * width;
+            for (int x = u - window; x <= u + window; ++x) {
+                if (!(row[x] > behind)) {
+                    seen_through = false;
+                    break;
+                }
+            }
+        }
+        if (!seen_through) continue;
+        if (is_stable(s)) {
+            s.confidence -= config_.free_space_penalty * weight_u_[static_cast<size_t>(u)] *
+                            weight_v_[static_cast<size_t>(v)];
+            ++stats.weakened_free_space;
+        } else {
+            remove_flags_[i] = 1;
+            ++flagged;
+        }
+    }
+    if (flagged == 0) return;
+    size_t kept = 0;
+    for (size_t i = 0; i < surfels_.size(); ++i) {
+        if (i < existing && remove_flags_[i] != 0) continue;
+        if (kept != i) surfels_[kept] = surfels_[i];
+        ++kept;
+    }
+    surfels_.resize(kept);
+    stats.removed_free_space = flagged;
 }
 
 size_t SurfelMap::clean(int frame_index) {

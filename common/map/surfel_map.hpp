@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/status.hpp"
+#include "io/rgbd_image.hpp"
 
 namespace df::map {
 
@@ -29,11 +30,6 @@ struct Surfel {
     float confidence = 0.f;    ///< sum of the weights of the observations fused into it
     int init_frame = 0;        ///< frame index that created it
     int last_seen_frame = 0;   ///< last frame index that fused an observation into it
-};
-
-/// Pinhole camera model of the fused images, in pixels (pixel centres at integer coordinates).
-struct PinholeIntrinsics {
-    float fx = 0.f, fy = 0.f, cx = 0.f, cy = 0.f;
 };
 
 /// Fusion parameters; defaults are those of ElasticFusion (FACTS.md §5).
@@ -66,13 +62,79 @@ struct SurfelMapConfig {
     /// (FusionStats::rejected_by_capacity, SurfelMap::total_rejected_by_capacity()); fusion
     /// into existing surfels and removal go on, so space frees up as unstable surfels age out.
     size_t max_surfels = 2'000'000;
+
+    /// Free-space violations (ElasticFusion): after fusion, an active surfel whose centre
+    /// projects onto a pixel with measured depth d, at camera depth z < d - margin, lies where
+    /// the frame saw through it. margin = max(free_space_margin_m,
+    /// free_space_margin_per_m2 * z^2) + surfel radius (sensor noise grows with z^2; the disc
+    /// itself spans up to its radius along the ray). The evidence counts only if every pixel of
+    /// the (2 free_space_window_px + 1)^2 window around the projected pixel has a valid,
+    /// unmasked depth that also passes the test, so surfels next to depth discontinuities, at
+    /// mask borders or on silhouettes (1-2 px of pose error) are left alone.
+    /// Rule: an unstable surfel is removed; a stable one loses free_space_penalty times the
+    /// observation weight of that pixel from its confidence (the weight fusion would have
+    /// added), so it turns unstable after (confidence - stable_confidence) / (penalty * weight)
+    /// such frames; then clean() removes it if it is older than unstable_max_age_frames, else
+    /// the next violation does. Surfels created by this frame are not tested.
+    bool remove_free_space = true;
+    float free_space_margin_m = 0.05f;       ///< metres; the depth association gate
+    float free_space_margin_per_m2 = 0.01f;  ///< 1/metres: 4 cm at 2 m, 9 cm at 3 m
+    int free_space_window_px = 2;            ///< window half-size, pixels (0: the pixel only)
+    float free_space_penalty = 1.f;          ///< confidence lost per unit observation weight
+};
+
+/// What the map looks like from a camera (SurfelMap::predict). All images width x height.
+struct ModelPrediction {
+    cv::Mat vertex;  ///< CV_32FC3, camera frame, metres; (0,0,0) where no surfel is seen
+    cv::Mat normal;  ///< CV_32FC3, camera frame, unit, towards the camera; (0,0,0) where none
+    cv::Mat colour;  ///< CV_8UC3 R,G,B; (0,0,0) where none
+    cv::Mat index;   ///< CV_32SC1, index into surfels() of the surfel seen, -1 where none;
+                     ///< valid until the map next changes
+};
+
+/// How SurfelMap::predict renders.
+struct PredictionConfig {
+    /// Surfels with confidence below this are not rendered (e.g. stable_confidence for
+    /// tracking against the stable model only).
+    float min_confidence = 0.f;
+    /// Surfels whose camera-frame depth (centre z) exceeds this, metres, are not rendered;
+    /// 0 = no limit.
+    float max_depth_m = 0.f;
+    /// true: each surfel covers the pixels whose ray meets its disc (z-buffered) and the vertex
+    /// is that ray's intersection with the surfel's plane, so a plane predicts exact plane
+    /// depth without holes. false: one pixel per surfel (its centre's), the vertex is the
+    /// surfel centre; faster, with holes when the map is seen from nearer than it was fused.
+    /// The index image of the unsplatted prediction suits fuse()'s association best (one
+    /// surfel per pixel, as ElasticFusion's index map).
+    bool splat = true;
+    /// Bound of a surfel's footprint, pixels (projected radius = radius * f / z, clamped to
+    /// this; the centre pixel is always covered). 0..64.
+    float max_splat_radius_px = 2.f;
+    /// A pixel whose ray meets the surfel at |cos(angle between ray and normal)| below this
+    /// is not covered (grazing intersections give unreliable depth). 0..1.
+    float min_cos_incidence = 0.1f;
+    /// Splat mode: discs whose depth at a pixel lies within layer_tolerance_m +
+    /// layer_tolerance_per_m2 * z^2 of the pixel's front-most disc belong to one surface layer,
+    /// and the pixel takes the one it is nearest the centre of (the surfel it belongs to) rather
+    /// than the nearest to the camera; discs further in front than that occlude. Metres, 1/m.
+    float layer_tolerance_m = 0.01f;
+    float layer_tolerance_per_m2 = 0.005f;
+    /// Worker threads (0 = all hardware threads); each draws one horizontal band of rows and
+    /// reads the whole map. The output does not depend on it.
+    int threads = 0;
 };
 
 /// What one call of fuse() did.
 struct FusionStats {
     size_t fused = 0;                 ///< observations merged into an existing surfel
+    /// observations of a surfel already updated by a pixel nearer its centre this frame (one
+    /// update per surfel and frame); neither fused nor created
+    size_t covered = 0;
     size_t created = 0;               ///< new surfels
-    size_t removed = 0;               ///< surfels removed by clean()
+    size_t removed = 0;               ///< surfels removed by clean() (unstable and old)
+    size_t removed_free_space = 0;    ///< unstable surfels removed as free-space violations
+    size_t weakened_free_space = 0;   ///< stable surfels that lost confidence for one
+                                      ///< (they may then go in the same call's clean())
     size_t rejected_by_capacity = 0;  ///< observations dropped because the map was full
     size_t total = 0;                 ///< surfels in the map afterwards
     size_t stable = 0;                ///< stable surfels in the map afterwards
@@ -94,19 +156,35 @@ class SurfelMap {
     ///   active surfels are projected with world_T_camera into a z-buffer of their indices.
     /// - frame_index: increasing frame counter (the time of the surfels).
     /// All images have the same size. A pixel is fused into its associated surfel if both
-    /// association gates pass, otherwise it creates a surfel (if there is room).
+    /// association gates pass, otherwise it creates a surfel (if there is room). Then the
+    /// free-space violations are handled (see SurfelMapConfig::remove_free_space).
     /// kInvalidArgument naming the bad input for wrong types or sizes or non-positive focal
     /// lengths; the map is not changed then. Surfel indices change (compaction) on every call.
     Result<FusionStats> fuse(const cv::Mat& vertex_map_cam, const cv::Mat& normal_map_cam,
                              const cv::Mat& rgb, const cv::Mat& mask, const cv::Mat& index_map,
                              const Eigen::Isometry3f& world_T_camera,
-                             const PinholeIntrinsics& intrinsics, int frame_index);
+                             const io::Intrinsics& intrinsics, int frame_index);
 
     /// Removes unstable surfels older than config.unstable_max_age_frames (relative to
     /// frame_index); returns how many were removed. Keeps the order of the others.
-    /// TODO(issue 4): free-space violations (surfels seen in front of measured depth) are not
-    /// removed yet.
     size_t clean(int frame_index);
+
+    /// Renders the map from a camera: the active surfels (is_active at frame_index) that face
+    /// the camera and pass config's filters, nearest first per pixel (see PredictionConfig).
+    /// world_T_camera: camera pose in the world, metres. k: pinhole intrinsics, pixels (pixel
+    /// centres at integer coordinates). Images are width x height. Runs on config.threads
+    /// threads; the result is identical for any thread count. Thread-safe (const, no shared
+    /// scratch). kInvalidArgument for sizes outside 1..32767, non-positive or non-finite
+    /// intrinsics, or config values outside their documented ranges.
+    Result<ModelPrediction> predict(const Eigen::Isometry3f& world_T_camera,
+                                    const io::Intrinsics& k, int width, int height, int frame_index,
+                                    const PredictionConfig& config = {}) const;
+    /// predict() into `out`, whose images are overwritten in place when they already have the
+    /// right size and type (so a caller that keeps `out` allocates nothing per frame; copies of
+    /// its cv::Mat headers see the new contents). On error `out` is unspecified.
+    Status predict_into(const Eigen::Isometry3f& world_T_camera, const io::Intrinsics& k, int width,
+                        int height, int frame_index, const PredictionConfig& config,
+                        ModelPrediction& out) const;
 
     size_t size() const { return surfels_.size(); }
     size_t stable_count() const;
@@ -133,8 +211,13 @@ class SurfelMap {
   private:
     /// Fills zbuffer_index_ with, per pixel, the nearest active surfel projecting there (-1 if
     /// none).
-    void project_active(const Eigen::Isometry3f& camera_T_world, const PinholeIntrinsics& k,
-                        int width, int height, int frame_index);
+    void project_active(const Eigen::Isometry3f& camera_T_world, const io::Intrinsics& k, int width,
+                        int height, int frame_index);
+    /// Free-space pass of fuse(): weakens or removes the surfels [0, existing) that the frame
+    /// saw through (see SurfelMapConfig::remove_free_space); updates stats.
+    void remove_free_space(const cv::Mat& vertex_map_cam, const cv::Mat& mask,
+                           const Eigen::Isometry3f& camera_T_world, const io::Intrinsics& k,
+                           int frame_index, size_t existing, FusionStats& stats);
 
     SurfelMapConfig config_;
     std::vector<Surfel> surfels_;
@@ -144,6 +227,10 @@ class SurfelMap {
     std::vector<float> zbuffer_depth_;
     std::vector<float> weight_u_;  ///< per column and per row factors of the observation weight
     std::vector<float> weight_v_;
+    std::vector<int32_t> owner_pixel_;   ///< per existing surfel: the pixel that updates it
+    std::vector<float> owner_distance_;  ///< its squared distance to the projected centre
+    std::vector<float> measured_depth_;  ///< metres, 0 = no evidence (free-space pass)
+    std::vector<uint8_t> remove_flags_;  ///< per surfel, free-space pass
 };
 
 }  // namespace df::map

@@ -122,7 +122,11 @@ Iso3 camera_pose(const CameraPathConfig& c, double t) {
             break;
         }
     }
-    return pose * tremor(c, t);
+    pose = pose * tremor(c, t);
+    if (c.jump_at_s >= 0.0 && t >= c.jump_at_s) {
+        pose.linear() = rot(Vec3::UnitZ(), c.jump_yaw_deg * kDeg) * pose.linear();
+    }
+    return pose;
 }
 
 }  // namespace df::sim

@@ -26,6 +26,11 @@ struct CameraPathConfig {
     double amplitude = 1.0;              ///< scales the excursions of the motion
     double tremor = 1.0;                 ///< scales the hand tremor (0 = none)
     uint64_t seed = 1;
+    /// A deliberate discontinuity (tests of tracking failure): from jump_at_s on, the camera is
+    /// turned by jump_yaw_deg about the world z axis through its own centre, so that it
+    /// suddenly sees another part of the room. Negative jump_at_s: no jump.
+    double jump_at_s = -1.0;
+    double jump_yaw_deg = 0.0;
 };
 
 /// world_T_camera (camera x right, y down, z forward) looking from `position` at `target`,

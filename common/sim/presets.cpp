@@ -220,6 +220,12 @@ const std::vector<PresetInfo>& presets() {
          "TUM fr3/walking_halfsphere: walking persons; camera on a 1 m "
          "half sphere",
          300},
+        {"static_xyz", "empty office (no persons, no objects); camera moves along x, y, z", 300},
+        {"static_halfsphere", "empty office; camera on a 1 m half sphere", 300},
+        {"static_jump",
+         "empty office; camera moves along x, y, z and at 1 s suddenly turns 120 degrees "
+         "(tracking must report lost)",
+         300},
         {"room4",
          "Co-Fusion room4: a car drives loops through the room, stopping; a suitcase "
          "slides behind the desk; an unknown drum rolls; hand-held camera",
@@ -293,12 +299,23 @@ Result<Sequence> make_sequence(const std::string& preset, const PresetOptions& o
         k640 = io::Intrinsics{360.0, 360.0, 320.0, 240.0};  // Co-Fusion's synthetic calibration
     } else {
         const bool walking = preset.rfind("walking_", 0) == 0;
-        const std::string motion = preset.substr(preset.find('_') + 1);
+        const bool empty = preset.rfind("static_", 0) == 0;
+        const bool jump = preset == "static_jump";
+        const std::string motion = jump ? "xyz" : preset.substr(preset.find('_') + 1);
         CameraMotion camera = CameraMotion::kStatic;
         if (!parse_camera_motion(motion, &camera)) {
             return error(StatusCode::kInternal, "preset '" + preset + "' has no camera motion");
         }
-        build_tum(&s, &photos, walking, camera);
+        if (empty) {
+            (void)build_office(&s.scene, &photos, s.seed);
+            s.camera = fr3_camera(camera, /*walking=*/false, s.seed);
+            if (jump) {
+                s.camera.jump_at_s = 1.0;
+                s.camera.jump_yaw_deg = 120.0;
+            }
+        } else {
+            build_tum(&s, &photos, walking, camera);
+        }
     }
     s.intrinsics = scale_intrinsics(k640, s.width, s.height);
     return s;

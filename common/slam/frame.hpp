@@ -33,6 +33,9 @@ struct FrameLevel {
     cv::Mat smoothed_depth_m;
     /// CV_32FC3, camera frame, metres: back-projection of depth_m; (0,0,0) where invalid.
     cv::Mat vertex;
+    /// CV_32FC3, camera frame, metres: back-projection of smoothed_depth_m (what tracking
+    /// aligns: less sensor noise); (0,0,0) where invalid.
+    cv::Mat smoothed_vertex;
     /// CV_32FC3, unit normals in the camera frame from central differences of the smoothed
     /// vertex map, oriented towards the camera (n . vertex < 0). (0,0,0) where the pixel or one
     /// of its 4 neighbours has no smoothed depth, and on the image border.

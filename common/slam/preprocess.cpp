@@ -52,7 +52,8 @@ std::string validate_image(const io::RgbdImage& image, int levels) {
 // Vertices, normals and intensity gradients of a level whose depths and intensity are set.
 void finish_level(FrameLevel& level) {
     level.vertex = compute_vertex_map(level.depth_m, level.intrinsics);
-    level.normal = compute_normal_map(compute_vertex_map(level.smoothed_depth_m, level.intrinsics));
+    level.smoothed_vertex = compute_vertex_map(level.smoothed_depth_m, level.intrinsics);
+    level.normal = compute_normal_map(level.smoothed_depth_m, level.intrinsics);
     cv::Sobel(level.intensity, level.grad_x, CV_32F, 1, 0, 3, 1.0 / 8.0);
     cv::Sobel(level.intensity, level.grad_y, CV_32F, 0, 1, 3, 1.0 / 8.0);
 }

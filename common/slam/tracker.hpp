@@ -37,7 +37,12 @@ struct TrackingConfig {
     // --- photometric term ---
     /// Whether the photometric term is used at all (false: ICP only).
     bool use_rgb = true;
-    /// Weight w of the ICP term in A = A_rgb + w^2 A_icp, b = b_rgb + w b_icp.
+    /// Weight w of the ICP term in A = A_rgb + w^2 A_icp, b = b_rgb + w^2 b_icp, i.e. the
+    /// Gauss-Newton step of E_rgb + w^2 E_icp. Each term's residuals are first divided by its
+    /// Huber threshold (icp_huber_m, rgb_huber) so the two are commensurable: raw, the
+    /// photometric normal equations (intensity units) outweigh the ICP ones (metres) by ~1e4.
+    /// (ElasticFusion's code scales b_icp by w only; with ICP dominating that shrinks the step
+    /// by 1/w in its directions, so w^2 is used on both.)
     float icp_weight = 10.f;
     /// Minimum gradient magnitude (intensity units per pixel, Sobel/8) of a pixel used by the
     /// photometric term, per level finest first.
@@ -57,8 +62,12 @@ struct TrackingConfig {
     float min_update_translation_m = 1e-5f;
     float min_update_rotation_rad = 1e-5f;
     /// The estimate is rejected (state kLost) when, at the finest level tracked:
-    /// - fewer than this fraction of the frame's valid pixels are ICP inliers, or
-    float min_inlier_ratio = 0.25f;
+    /// - fewer than this fraction of the frame's valid pixels that land on the model (at the
+    ///   final estimate) are ICP inliers, or
+    float min_inlier_ratio = 0.5f;
+    /// - fewer than this fraction of all the frame's valid pixels are ICP inliers (a view that
+    ///   barely overlaps the model), or
+    float min_frame_inlier_ratio = 0.15f;
     /// - fewer than this many ICP inliers in all, or
     int min_inliers = 500;
     /// - the RMS point-to-plane residual of the inliers exceeds this (metres), or
@@ -100,7 +109,7 @@ struct TrackingResult {
     /// The estimate (kOk) or the initial guess (kLost).
     Eigen::Isometry3d world_T_camera = Eigen::Isometry3d::Identity();
     /// Figures at the finest level tracked, after the last iteration.
-    float inlier_ratio = 0.f;  ///< ICP inliers / valid frame pixels at that level
+    float inlier_ratio = 0.f;  ///< ICP inliers / valid frame pixels landing on the model
     int inliers = 0;           ///< ICP inliers
     float icp_rmse_m = 0.f;    ///< RMS point-to-plane residual of the inliers
     float rgb_rmse = 0.f;      ///< RMS photometric residual of the pixels used (0 if none)

@@ -14,11 +14,9 @@
 #include "dds/writer.hpp"
 #include "df_msgs.h"
 #include "io/rgbd_image.hpp"
+#include "source.hpp"
 
 namespace df::capture {
-
-/// Opens the source the configuration names (TUM folder or OpenNI2 device).
-Result<std::unique_ptr<io::FrameSource>> open_source(const config::CaptureConfig& config);
 
 struct CaptureStats {
     uint64_t published = 0;

@@ -1,14 +1,20 @@
 // df_bench_slam_preprocess: time of df::slam::preprocess (range cut, bilateral filter, 3-level
 // pyramid, vertex/normal maps, intensity and gradients) on a synthetic 640x480 frame: a tilted
-// plane with a box in front of it, 2 mm noise and a textured colour image. Prints median and p95.
+// plane with a box in front of it, 2 mm noise and a textured colour image. Prints median and p95,
+// then the median of each step on its own (the building blocks of depth_maps.hpp and the OpenCV
+// calls preprocess makes, run one at a time with the same inputs preprocess gives them).
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+#include <string>
 #include <vector>
 
+#include "slam/depth_maps.hpp"
 #include "slam/frame.hpp"
 
 namespace {
@@ -36,6 +42,73 @@ df::io::RgbdImage make_frame(int width, int height) {
     return image;
 }
 
+/// Times of `run` over `runs` calls after 3 warm-up calls, in ms, sorted.
+std::vector<double> time_runs(int runs, const std::function<void()>& run) {
+    std::vector<double> ms;
+    for (int i = 0; i < runs + 3; ++i) {
+        const auto start = std::chrono::steady_clock::now();
+        run();
+        const auto end = std::chrono::steady_clock::now();
+        if (i >= 3) ms.push_back(std::chrono::duration<double, std::milli>(end - start).count());
+    }
+    std::sort(ms.begin(), ms.end());
+    return ms;
+}
+
+double quantile(const std::vector<double>& sorted, double q) {
+    return sorted[std::min(sorted.size() - 1,
+                           static_cast<size_t>(q * static_cast<double>(sorted.size())))];
+}
+
+/// Median time of each step of preprocess on its own, on the inputs preprocess gives it.
+void print_step_times(const df::io::RgbdImage& image, const df::slam::PreprocessConfig& c,
+                      const df::slam::Frame& frame, int runs) {
+    using namespace df::slam;
+    const FrameLevel& base = frame.levels[0];
+    const FrameLevel& level1 = frame.levels[1];
+    cv::Mat sink;
+    const std::vector<std::pair<std::string, std::function<void()>>> steps = {
+        {"depth_to_metres",
+         [&] {
+             sink = depth_to_metres(image.depth, image.depth_units_per_m, c.min_depth_m,
+                                    c.max_depth_m);
+         }},
+        {"bilateral_filter_depth",
+         [&] {
+             sink = bilateral_filter_depth(base.depth_m, c.bilateral_sigma_space_px,
+                                           c.bilateral_sigma_depth_m, c.bilateral_radius_px);
+         }},
+        {"rgb_to_intensity", [&] { sink = rgb_to_intensity(image.rgb); }},
+        {"compute_vertex_map L0",
+         [&] { sink = compute_vertex_map(base.depth_m, base.intrinsics); }},
+        {"compute_normal_map L0 (from smoothed depth)",
+         [&] { sink = compute_normal_map(base.smoothed_depth_m, base.intrinsics); }},
+        {"Sobel x + y L0",
+         [&] {
+             cv::Sobel(base.intensity, sink, CV_32F, 1, 0, 3, 1.0 / 8.0);
+             cv::Sobel(base.intensity, sink, CV_32F, 0, 1, 3, 1.0 / 8.0);
+         }},
+        {"downsample_depth L0->L1 (x2: raw, smoothed)",
+         [&] {
+             sink = downsample_depth(base.depth_m, c.pyramid_max_depth_diff_m);
+             sink = downsample_depth(base.smoothed_depth_m, c.pyramid_max_depth_diff_m);
+         }},
+        {"pyrDown intensity L0->L1",
+         [&] { cv::pyrDown(base.intensity, sink, level1.depth_m.size()); }},
+        {"vertex + normal + Sobel L1",
+         [&] {
+             sink = compute_vertex_map(level1.depth_m, level1.intrinsics);
+             sink =
+                 compute_normal_map(compute_vertex_map(level1.smoothed_depth_m, level1.intrinsics));
+             cv::Sobel(level1.intensity, sink, CV_32F, 1, 0, 3, 1.0 / 8.0);
+             cv::Sobel(level1.intensity, sink, CV_32F, 0, 1, 3, 1.0 / 8.0);
+         }},
+    };
+    for (const auto& [name, run] : steps) {
+        std::printf("  %-44s median %6.3f ms\n", name.c_str(), quantile(time_runs(runs, run), 0.5));
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -47,6 +120,9 @@ int main(int argc, char** argv) {
     app.add_option("--width", width, "image width")->capture_default_str();
     app.add_option("--height", height, "image height")->capture_default_str();
     app.add_option("--threads", threads, "OpenCV threads (0: OpenCV's default)")
+        ->capture_default_str();
+    bool steps = true;
+    app.add_flag("--steps,!--no-steps", steps, "also time each step on its own")
         ->capture_default_str();
     CLI11_PARSE(app, argc, argv);
     if (threads > 0) cv::setNumThreads(threads);
@@ -65,11 +141,10 @@ int main(int argc, char** argv) {
         if (i >= 5) ms.push_back(std::chrono::duration<double, std::milli>(end - start).count());
     }
     std::sort(ms.begin(), ms.end());
-    const auto at = [&](double q) {
-        return ms[std::min(ms.size() - 1, static_cast<size_t>(q * static_cast<double>(ms.size())))];
-    };
     std::printf(
         "preprocess %dx%d, %d levels, %d OpenCV threads, %d runs: median %.2f ms, p95 %.2f ms\n",
-        width, height, config.pyramid_levels, cv::getNumThreads(), frames, at(0.5), at(0.95));
+        width, height, config.pyramid_levels, cv::getNumThreads(), frames, quantile(ms, 0.5),
+        quantile(ms, 0.95));
+    if (steps) print_step_times(image, config, df::slam::preprocess(image, config).value(), frames);
     return 0;
 }

@@ -17,9 +17,9 @@ constexpr int kWidth = 64;
 constexpr int kHeight = 48;
 constexpr size_t kPixels = static_cast<size_t>(kWidth) * kHeight;
 
-PinholeIntrinsics intrinsics_for(int width, int height) {
-    const float f = static_cast<float>(width);  // ~53 degrees horizontal field of view
-    return {f, f, 0.5f * (width - 1), 0.5f * (height - 1)};
+io::Intrinsics intrinsics_for(int width, int height) {
+    const double f = width;  // ~53 degrees horizontal field of view
+    return {f, f, 0.5 * (width - 1), 0.5 * (height - 1)};
 }
 
 /// Vertex, normal and colour maps of the plane z = depth_m (camera frame), seen head-on.
@@ -31,14 +31,16 @@ struct View {
 View plane_view(float depth_m, int width = kWidth, int height = kHeight, float depth_noise_m = 0.f,
                 std::mt19937* rng = nullptr,
                 Eigen::Vector3f normal_cam = Eigen::Vector3f(0.f, 0.f, -1.f)) {
-    const PinholeIntrinsics k = intrinsics_for(width, height);
+    const io::Intrinsics k = intrinsics_for(width, height);
+    const float fx = static_cast<float>(k.fx), fy = static_cast<float>(k.fy);
+    const float cx = static_cast<float>(k.cx), cy = static_cast<float>(k.cy);
     View view{cv::Mat(height, width, CV_32FC3), cv::Mat(height, width, CV_32FC3),
               cv::Mat(height, width, CV_8UC3)};
     std::normal_distribution<float> noise(0.f, depth_noise_m);
     for (int v = 0; v < height; ++v) {
         for (int u = 0; u < width; ++u) {
             const float z = depth_m + (rng != nullptr ? noise(*rng) : 0.f);
-            view.vertex.at<cv::Vec3f>(v, u) = {(u - k.cx) / k.fx * z, (v - k.cy) / k.fy * z, z};
+            view.vertex.at<cv::Vec3f>(v, u) = {(u - cx) / fx * z, (v - cy) / fy * z, z};
             view.normal.at<cv::Vec3f>(v, u) = {normal_cam.x(), normal_cam.y(), normal_cam.z()};
             view.rgb.at<cv::Vec3b>(v, u) = {static_cast<uint8_t>(u * 3), 100,
                                             static_cast<uint8_t>(v * 5)};
@@ -56,12 +58,12 @@ Result<FusionStats> fuse(SurfelMap& map, const View& view, int frame, const cv::
 
 /// How many pixels reach `confidence` after `frames` observations of weight exp(-r^2/0.72).
 size_t pixels_reaching(float confidence, int frames) {
-    const PinholeIntrinsics k = intrinsics_for(kWidth, kHeight);
+    const io::Intrinsics k = intrinsics_for(kWidth, kHeight);
     const float half_diagonal = 0.5f * std::sqrt(float(kWidth * kWidth + kHeight * kHeight));
     size_t count = 0;
     for (int v = 0; v < kHeight; ++v) {
         for (int u = 0; u < kWidth; ++u) {
-            const float r = std::hypot(u - k.cx, v - k.cy) / half_diagonal;
+            const float r = static_cast<float>(std::hypot(u - k.cx, v - k.cy)) / half_diagonal;
             if (frames * std::exp(-r * r / 0.72f) >= confidence) ++count;
         }
     }

@@ -1,7 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <functional>
+#include <string>
 
 #include "slam/depth_maps.hpp"
 #include "slam/frame.hpp"
@@ -180,6 +184,204 @@ TEST(Preprocess, BilateralSmoothsNoiseOnAPlane) {
     const cv::Mat smoothed = bilateral_filter_depth(depth, 4.5f, 0.03f, 2);
     for (int v = 2; v < 62; ++v) {
         for (int u = 2; u < 62; ++u) EXPECT_NEAR(smoothed.at<float>(v, u), 1.0f, 1.5e-4f);
+    }
+}
+
+/// The bilateral filter as its contract in depth_maps.hpp reads, one pixel at a time in double
+/// with std::exp. Only the 4 sigma cut-off is decided in float (dz and dz^2 rounded as the filter
+/// rounds them), so that a neighbour exactly at the cut-off counts or not the same way in both.
+cv::Mat reference_bilateral(const cv::Mat& depth, float sigma_space_px, float sigma_depth_m,
+                            int radius) {
+    cv::Mat out(depth.size(), CV_32F, cv::Scalar(0));
+    const float cutoff_dz2 = 16.f * sigma_depth_m * sigma_depth_m;
+    for (int v = 0; v < depth.rows; ++v) {
+        for (int u = 0; u < depth.cols; ++u) {
+            const float center = depth.at<float>(v, u);
+            if (!(center > 0.f)) continue;
+            double sum = 0, weight_sum = 0;
+            for (int dv = -radius; dv <= radius; ++dv) {
+                for (int du = -radius; du <= radius; ++du) {
+                    if (v + dv < 0 || v + dv >= depth.rows || u + du < 0 || u + du >= depth.cols)
+                        continue;
+                    const float z = depth.at<float>(v + dv, u + du);
+                    const float dz = z - center;
+                    if (!(z > 0.f) || dz * dz > cutoff_dz2) continue;
+                    const double w =
+                        std::exp(-(du * du + dv * dv) / (2.0 * sigma_space_px * sigma_space_px)) *
+                        std::exp(-double{dz} * dz / (2.0 * sigma_depth_m * sigma_depth_m));
+                    sum += w * z;
+                    weight_sum += w;
+                }
+            }
+            out.at<float>(v, u) = static_cast<float>(sum / weight_sum);
+        }
+    }
+    return out;
+}
+
+/// Noisy depth with holes and steps: a tilted plane, a box 0.3 m in front, strips 5 cm and 11 cm
+/// (near the 4 sigma cut-off) proud of the plane, 3 mm Gaussian noise, scattered invalid pixels
+/// and invalid blocks. Width not a multiple of 4 or 8.
+cv::Mat noisy_depth_with_holes_and_steps(int width, int height) {
+    cv::Mat depth(height, width, CV_32F);
+    cv::RNG rng(7);
+    for (int v = 0; v < height; ++v) {
+        for (int u = 0; u < width; ++u) {
+            double z = 1.2 + 0.006 * u + 0.003 * v;
+            if (u > width / 3 && u < width / 2 && v > height / 4 && v < height / 2) z -= 0.3;
+            if (u % 29 < 6) z -= 0.05;
+            if (v % 23 < 4) z -= 0.11;
+            z += rng.gaussian(0.003);
+            if (rng.uniform(0.0, 1.0) < 0.1 || ((u / 16 + v / 16) % 9 == 0 && u % 16 < 5)) z = 0;
+            depth.at<float>(v, u) = static_cast<float>(z);
+        }
+    }
+    return depth;
+}
+
+TEST(Preprocess, BilateralMatchesReferenceImplementation) {
+    const cv::Mat depth = noisy_depth_with_holes_and_steps(203, 117);
+    struct Params {
+        float sigma_space_px, sigma_depth_m;
+        int radius;
+    };
+    for (const Params& p : {Params{4.5f, 0.03f, 2}, Params{1.0f, 0.01f, 1}, Params{2.0f, 0.05f, 4},
+                            Params{3.0f, 0.02f, 0}}) {
+        const cv::Mat fast =
+            bilateral_filter_depth(depth, p.sigma_space_px, p.sigma_depth_m, p.radius);
+        const cv::Mat reference =
+            reference_bilateral(depth, p.sigma_space_px, p.sigma_depth_m, p.radius);
+        ASSERT_EQ(fast.size(), depth.size());
+        ASSERT_EQ(fast.type(), CV_32F);
+        double max_diff = 0;
+        for (int v = 0; v < depth.rows; ++v) {
+            for (int u = 0; u < depth.cols; ++u) {
+                const float z = fast.at<float>(v, u);
+                ASSERT_EQ(z > 0.f, depth.at<float>(v, u) > 0.f) << u << "," << v;
+                max_diff = std::max(max_diff, std::fabs(double{z} - reference.at<float>(v, u)));
+            }
+        }
+        EXPECT_LE(max_diff, 1e-5) << "radius " << p.radius << " sigma_depth " << p.sigma_depth_m;
+        if (p.radius == 0) {
+            EXPECT_EQ(cv::norm(fast, depth, cv::NORM_INF), 0.0);  // only the pixel itself
+        }
+        std::printf("radius %d: max |fast - reference| = %.3g m\n", p.radius, max_diff);
+    }
+}
+
+TEST(Preprocess, BilateralOfQuantisedSensorDepthMatchesReference) {
+    // Sensor depth comes in 0.2 mm steps, so depth differences of exactly 4 sigma (600 steps)
+    // are common at edges: the cut-off must decide them as the reference does.
+    io::RgbdImage image = make_image([](int u, int v) {
+        return 1.0 + 0.12 * ((u / 7 + v / 5) % 3) + 0.0002 * ((u * 31 + v * 17) % 11);
+    });
+    const cv::Mat depth = depth_to_metres(image.depth, kUnitsPerM, 0.3f, 3.f);
+    const cv::Mat fast = bilateral_filter_depth(depth, 4.5f, 0.03f, 2);
+    const cv::Mat reference = reference_bilateral(depth, 4.5f, 0.03f, 2);
+    const double max_diff = cv::norm(fast, reference, cv::NORM_INF);
+    EXPECT_LE(max_diff, 1e-5);
+    std::printf("quantised: max |fast - reference| = %.3g m\n", max_diff);
+}
+
+// One-pixel-at-a-time versions of the other building blocks, as their contracts in
+// depth_maps.hpp read; the library's row-parallel SIMD versions must match them bit for bit.
+
+cv::Mat reference_vertex_map(const cv::Mat& depth, const io::Intrinsics& k) {
+    cv::Mat out(depth.size(), CV_32FC3);
+    for (int v = 0; v < depth.rows; ++v) {
+        const float ray_y = static_cast<float>((v - k.cy) / k.fy);
+        for (int u = 0; u < depth.cols; ++u) {
+            const float ray_x = static_cast<float>((u - k.cx) / k.fx);
+            const float z = depth.at<float>(v, u);
+            out.at<cv::Vec3f>(v, u) =
+                z > 0.f ? cv::Vec3f(ray_x * z, ray_y * z, z) : cv::Vec3f(0.f, 0.f, 0.f);
+        }
+    }
+    return out;
+}
+
+cv::Mat reference_normal_map(const cv::Mat& vertex) {
+    cv::Mat out(vertex.size(), CV_32FC3, cv::Scalar::all(0));
+    for (int v = 1; v + 1 < vertex.rows; ++v) {
+        for (int u = 1; u + 1 < vertex.cols; ++u) {
+            const cv::Vec3f mid = vertex.at<cv::Vec3f>(v, u);
+            const cv::Vec3f left = vertex.at<cv::Vec3f>(v, u - 1);
+            const cv::Vec3f right = vertex.at<cv::Vec3f>(v, u + 1);
+            const cv::Vec3f up = vertex.at<cv::Vec3f>(v - 1, u);
+            const cv::Vec3f down = vertex.at<cv::Vec3f>(v + 1, u);
+            if (mid[2] <= 0.f || left[2] <= 0.f || right[2] <= 0.f || up[2] <= 0.f ||
+                down[2] <= 0.f) {
+                continue;
+            }
+            cv::Vec3f n = (down - up).cross(right - left);
+            const float norm = std::sqrt(n.dot(n));
+            if (!(norm > 1e-12f)) continue;
+            n *= 1.f / norm;
+            if (n.dot(mid) > 0.f) n = -n;
+            out.at<cv::Vec3f>(v, u) = n;
+        }
+    }
+    return out;
+}
+
+cv::Mat reference_downsample(const cv::Mat& depth, float max_diff_m) {
+    cv::Mat out(depth.rows / 2, depth.cols / 2, CV_32F);
+    for (int v = 0; v < out.rows; ++v) {
+        for (int u = 0; u < out.cols; ++u) {
+            const float block[4] = {
+                depth.at<float>(2 * v, 2 * u), depth.at<float>(2 * v, 2 * u + 1),
+                depth.at<float>(2 * v + 1, 2 * u), depth.at<float>(2 * v + 1, 2 * u + 1)};
+            const float* ref = std::find_if(block, block + 4, [](float z) { return z > 0.f; });
+            float sum = 0.f;
+            int count = 0;
+            for (float z : block) {
+                if (ref != block + 4 && z > 0.f && std::fabs(z - *ref) <= max_diff_m) {
+                    sum += z;
+                    ++count;
+                }
+            }
+            out.at<float>(v, u) = count > 0 ? sum / static_cast<float>(count) : 0.f;
+        }
+    }
+    return out;
+}
+
+/// True when a and b have the same size, type and bytes (so -0 and +0 differ).
+bool bit_identical(const cv::Mat& a, const cv::Mat& b) {
+    if (a.size() != b.size() || a.type() != b.type()) return false;
+    for (int v = 0; v < a.rows; ++v) {
+        if (std::memcmp(a.ptr(v), b.ptr(v), a.cols * a.elemSize()) != 0) return false;
+    }
+    return true;
+}
+
+TEST(Preprocess, MapsAreBitIdenticalToOnePixelReferences) {
+    const io::Intrinsics k = tum_intrinsics();
+    // Odd and tiny sizes exercise the partial SIMD blocks at row ends.
+    for (const cv::Size size : {cv::Size(203, 117), cv::Size(64, 48), cv::Size(9, 5),
+                                cv::Size(5, 4), cv::Size(3, 3), cv::Size(2, 7), cv::Size(1, 1)}) {
+        const cv::Mat depth = noisy_depth_with_holes_and_steps(size.width, size.height);
+        const cv::Mat smoothed = bilateral_filter_depth(depth, 4.5f, 0.03f, 2);
+        const cv::Mat vertex = compute_vertex_map(smoothed, k);
+        const std::string where = std::to_string(size.width) + "x" + std::to_string(size.height);
+        EXPECT_TRUE(bit_identical(vertex, reference_vertex_map(smoothed, k))) << where;
+        const cv::Mat normal = reference_normal_map(vertex);
+        EXPECT_TRUE(bit_identical(compute_normal_map(vertex), normal)) << where;
+        EXPECT_TRUE(bit_identical(compute_normal_map(smoothed, k), normal)) << where;
+        EXPECT_TRUE(
+            bit_identical(downsample_depth(depth, 0.09f), reference_downsample(depth, 0.09f)))
+            << where;
+
+        cv::Mat rgb(size, CV_8UC3);
+        cv::RNG(3).fill(rgb, cv::RNG::UNIFORM, 0, 256);
+        cv::Mat intensity(size, CV_32F);
+        for (int v = 0; v < size.height; ++v) {
+            for (int u = 0; u < size.width; ++u) {
+                const cv::Vec3b p = rgb.at<cv::Vec3b>(v, u);
+                intensity.at<float>(v, u) = 0.299f * p[0] + 0.587f * p[1] + 0.114f * p[2];
+            }
+        }
+        EXPECT_TRUE(bit_identical(rgb_to_intensity(rgb), intensity)) << where;
     }
 }
 

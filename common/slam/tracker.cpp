@@ -1,0 +1,329 @@
+#include "slam/tracker.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <sstream>
+
+#include "slam/tracker_terms.hpp"
+
+namespace df::slam {
+
+namespace {
+
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+using tracker_detail::NormalEquations;
+
+// Fewer contributing pixels than unknowns cannot determine a step.
+constexpr int kMinRowsForStep = 6;
+
+std::string describe_mat(const cv::Mat& m) {
+    std::ostringstream out;
+    if (m.empty()) {
+        out << "empty";
+    } else {
+        out << cv::typeToString(m.type()) << " " << m.cols << "x" << m.rows;
+    }
+    return out.str();
+}
+
+std::string validate_inputs(const Frame& frame, const ModelView& model, const cv::Mat& mask,
+                            const TrackingConfig& config) {
+    std::ostringstream msg;
+    const size_t levels = config.iterations.size();
+    if (frame.levels.size() < levels) {
+        msg << "frame has " << frame.levels.size() << " pyramid levels, TrackingConfig::iterations"
+            << " has " << levels << " entries";
+        return msg.str();
+    }
+    const cv::Size size(frame.levels[0].width(), frame.levels[0].height());
+    const std::string expected = " of the frame's level-0 size " + std::to_string(size.width) +
+                                 "x" + std::to_string(size.height);
+    for (size_t l = 0; l < levels; ++l) {
+        const FrameLevel& level = frame.levels[l];
+        if (level.smoothed_vertex.type() != CV_32FC3 || level.normal.type() != CV_32FC3 ||
+            level.intensity.type() != CV_32F || level.grad_x.type() != CV_32F ||
+            level.grad_y.type() != CV_32F || level.depth_m.type() != CV_32F ||
+            level.smoothed_vertex.size() != level.depth_m.size() ||
+            level.normal.size() != level.depth_m.size() ||
+            level.intensity.size() != level.depth_m.size() ||
+            level.grad_x.size() != level.depth_m.size() ||
+            level.grad_y.size() != level.depth_m.size() ||
+            level.depth_m.cols != size.width >> l || level.depth_m.rows != size.height >> l) {
+            msg << "frame level " << l << " is not a preprocess() level (depth_m "
+                << describe_mat(level.depth_m) << ", smoothed_vertex " << describe_mat(level.smoothed_vertex) << ")";
+            return msg.str();
+        }
+    }
+    if (model.vertex.type() != CV_32FC3 || model.vertex.size() != size) {
+        msg << "ModelView::vertex must be CV_32FC3" << expected << ", got "
+            << describe_mat(model.vertex);
+    } else if (model.normal.type() != CV_32FC3 || model.normal.size() != size) {
+        msg << "ModelView::normal must be CV_32FC3" << expected << ", got "
+            << describe_mat(model.normal);
+    } else if (config.use_rgb && (model.colour.type() != CV_8UC3 || model.colour.size() != size)) {
+        msg << "ModelView::colour must be CV_8UC3" << expected
+            << " when TrackingConfig::use_rgb is true, got " << describe_mat(model.colour);
+    } else if (!mask.empty() && (mask.type() != CV_8UC1 || mask.size() != size)) {
+        msg << "mask must be empty or CV_8UC1" << expected << ", got " << describe_mat(mask);
+    }
+    return msg.str();
+}
+
+tracker_detail::PoseF to_float(const Eigen::Isometry3d& pose) {
+    tracker_detail::PoseF out{};
+    for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) out.r[r * 3 + c] = static_cast<float>(pose.linear()(r, c));
+        out.t[r] = static_cast<float>(pose.translation()(r));
+    }
+    return out;
+}
+
+// A += scale_a * eq.a (both triangles), b += scale_b * eq.b.
+void add_scaled(const NormalEquations& eq, double scale_a, double scale_b, Matrix6d& a,
+                Vector6d& b) {
+    int k = 0;
+    for (int i = 0; i < 6; ++i) {
+        for (int j = i; j < 6; ++j) {
+            const double v = scale_a * eq.a[static_cast<size_t>(k++)];
+            a(i, j) += v;
+            if (j != i) a(j, i) += v;
+        }
+        b(i) += scale_b * eq.b[static_cast<size_t>(i)];
+    }
+}
+
+// Exp of the increment: rotation exp(w), translation t (first-order equal to the SE(3) exp,
+// which is all Gauss-Newton needs).
+Eigen::Isometry3d increment(const Vector6d& xi) {
+    Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
+    const Eigen::Vector3d w = xi.tail<3>();
+    const double angle = w.norm();
+    if (angle > 0.0) out.linear() = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
+    out.translation() = xi.head<3>();
+    return out;
+}
+
+double condition_of(const Matrix6d& a) {
+    const Eigen::SelfAdjointEigenSolver<Matrix6d> solver(a, Eigen::EigenvaluesOnly);
+    const auto& ev = solver.eigenvalues();  // ascending
+    return ev(5) > 0.0 ? std::max(0.0, ev(0)) / ev(5) : 0.0;
+}
+
+// Figures of the finest level's last linearisation.
+struct Figures {
+    int valid = 0;
+    int frame_valid = 0;  ///< valid, unmasked frame pixels at the finest level (pixel step)
+    NormalEquations icp, rgb;
+    double condition = 0.0;
+};
+
+std::string lost_reason(const Figures& f, const TrackingResult& r, const Eigen::Isometry3d& moved,
+                        const TrackingConfig& c) {
+    std::ostringstream msg;
+    const double moved_m = moved.translation().norm();
+    const double moved_rad = Eigen::AngleAxisd(moved.linear()).angle();
+    if (r.inliers < c.min_inliers) {
+        msg << "ICP inliers " << r.inliers << " < min_inliers " << c.min_inliers << " ("
+            << f.valid << " frame pixels on the model)";
+    } else if (r.inlier_ratio < c.min_inlier_ratio) {
+        msg << "ICP inlier ratio " << r.inlier_ratio << " (" << r.inliers << "/" << f.valid
+            << ") < min_inlier_ratio " << c.min_inlier_ratio;
+    } else if (f.frame_valid > 0 &&
+               static_cast<float>(r.inliers) / static_cast<float>(f.frame_valid) <
+                   c.min_frame_inlier_ratio) {
+        msg << "ICP inliers " << r.inliers << " are less than min_frame_inlier_ratio "
+            << c.min_frame_inlier_ratio << " of the " << f.frame_valid << " valid frame pixels";
+    } else if (r.icp_rmse_m > c.max_icp_rmse_m) {
+        msg << "ICP RMSE " << r.icp_rmse_m << " m > max_icp_rmse_m " << c.max_icp_rmse_m;
+    } else if (r.condition < c.min_condition) {
+        msg << "condition " << r.condition << " < min_condition " << c.min_condition
+            << " (degenerate geometry/texture)";
+    } else if (moved_m > c.max_translation_m) {
+        msg << "moved " << moved_m << " m from the initial guess > max_translation_m "
+            << c.max_translation_m;
+    } else if (moved_rad > c.max_rotation_rad) {
+        msg << "rotated " << moved_rad << " rad from the initial guess > max_rotation_rad "
+            << c.max_rotation_rad;
+    }
+    return msg.str();
+}
+
+}  // namespace
+
+const char* to_string(TrackingState state) {
+    switch (state) {
+        case TrackingState::kOk:
+            return "ok";
+        case TrackingState::kLost:
+            return "lost";
+    }
+    return "unknown";
+}
+
+std::string validate(const TrackingConfig& c) {
+    std::ostringstream msg;
+    const size_t levels = c.iterations.size();
+    if (levels == 0) {
+        msg << "iterations must have one entry per pyramid level, got none";
+        return msg.str();
+    }
+    for (size_t l = 0; l < levels; ++l) {
+        if (c.iterations[l] < 0) {
+            msg << "iterations[" << l << "] must be >= 0, got " << c.iterations[l];
+            return msg.str();
+        }
+    }
+    if (c.pixel_step.size() != levels) {
+        msg << "pixel_step must have " << levels << " entries (one per iterations entry), got "
+            << c.pixel_step.size();
+    } else if (c.rgb_min_gradient.size() != levels) {
+        msg << "rgb_min_gradient must have " << levels
+            << " entries (one per iterations entry), got " << c.rgb_min_gradient.size();
+    }
+    if (!msg.str().empty()) return msg.str();
+    for (size_t l = 0; l < levels; ++l) {
+        if (c.pixel_step[l] < 1) {
+            msg << "pixel_step[" << l << "] must be >= 1, got " << c.pixel_step[l];
+        } else if (!(c.rgb_min_gradient[l] >= 0.f)) {
+            msg << "rgb_min_gradient[" << l << "] must be >= 0, got " << c.rgb_min_gradient[l];
+        }
+        if (!msg.str().empty()) return msg.str();
+    }
+    const auto positive = [&msg](const char* name, double value) {
+        if (!msg.str().empty() || value > 0.0) return;
+        msg << name << " must be > 0, got " << value;
+    };
+    const auto non_negative = [&msg](const char* name, double value) {
+        if (!msg.str().empty() || value >= 0.0) return;
+        msg << name << " must be >= 0, got " << value;
+    };
+    positive("icp_max_distance_m", c.icp_max_distance_m);
+    positive("icp_max_normal_sin", c.icp_max_normal_sin);
+    positive("icp_weight", c.icp_weight);
+    positive("rgb_max_depth_difference_m", c.rgb_max_depth_difference_m);
+    positive("icp_huber_m", c.icp_huber_m);
+    positive("rgb_huber", c.rgb_huber);
+    non_negative("min_update_translation_m", c.min_update_translation_m);
+    non_negative("min_update_rotation_rad", c.min_update_rotation_rad);
+    non_negative("min_inlier_ratio", c.min_inlier_ratio);
+    non_negative("min_inliers", c.min_inliers);
+    positive("max_icp_rmse_m", c.max_icp_rmse_m);
+    non_negative("min_condition", c.min_condition);
+    positive("max_translation_m", c.max_translation_m);
+    positive("max_rotation_rad", c.max_rotation_rad);
+    if (msg.str().empty() && c.min_inlier_ratio > 1.f) {
+        msg << "min_inlier_ratio must be <= 1, got " << c.min_inlier_ratio;
+    }
+    return msg.str();
+}
+
+Result<TrackingResult> track(const Frame& frame, const ModelView& model,
+                             const Eigen::Isometry3d& world_T_reference,
+                             const Eigen::Isometry3d& initial_world_T_camera, const cv::Mat& mask,
+                             const TrackingConfig& config) {
+    if (std::string bad = validate(config); !bad.empty()) {
+        return error(StatusCode::kInvalidArgument, "TrackingConfig: " + bad);
+    }
+    if (std::string bad = validate_inputs(frame, model, mask, config); !bad.empty()) {
+        return error(StatusCode::kInvalidArgument,
+                     "track frame " + std::to_string(frame.index) + ": " + bad);
+    }
+    const int levels = static_cast<int>(config.iterations.size());
+    int finest = 0;  // the finest level with iterations; level 0 when none has any
+    while (finest < levels && config.iterations[static_cast<size_t>(finest)] == 0) ++finest;
+    if (finest == levels) finest = 0;
+
+    const std::vector<tracker_detail::ModelLevel> model_levels =
+        tracker_detail::build_model_pyramid(model, levels, config.use_rgb);
+    const std::vector<cv::Mat> masks = tracker_detail::build_mask_pyramid(mask, levels);
+    const double w = config.icp_weight;
+
+    Eigen::Isometry3d reference_T_camera = world_T_reference.inverse() * initial_world_T_camera;
+    TrackingResult result;
+    Figures figures;
+    for (int l = levels - 1; l >= 0; --l) {
+        const size_t li = static_cast<size_t>(l);
+        const int iterations = config.iterations[li];
+        if (iterations == 0 && l != finest) continue;
+        const FrameLevel& level = frame.levels[li];
+        const int step = config.pixel_step[li];
+        // With no iterations anywhere, the finest level is evaluated once, not updated.
+        for (int it = 0; it < std::max(iterations, 1); ++it) {
+            const tracker_detail::PoseF pose = to_float(reference_T_camera);
+            int valid = 0;
+            NormalEquations icp = tracker_detail::accumulate_icp(
+                level, masks[li], step, model_levels[li], pose, config, valid);
+            NormalEquations rgb;
+            Matrix6d a = Matrix6d::Zero();
+            Vector6d b = Vector6d::Zero();
+            if (config.use_rgb) {
+                rgb = tracker_detail::accumulate_rgb(model_levels[li], step, level, masks[li],
+                                                     to_float(reference_T_camera.inverse()), pose,
+                                                     config.rgb_min_gradient[li], config);
+                // Residuals in units of their Huber thresholds make the terms commensurable;
+                // then E = E_rgb + w^2 E_icp, whose Gauss-Newton step needs w^2 on both A and b
+                // (w on b alone would shrink the step by 1/w where ICP dominates).
+                const double rgb_scale = 1.0 / (double(config.rgb_huber) * config.rgb_huber);
+                const double icp_scale = w * w / (double(config.icp_huber_m) * config.icp_huber_m);
+                add_scaled(rgb, rgb_scale, rgb_scale, a, b);
+                add_scaled(icp, icp_scale, icp_scale, a, b);
+            } else {
+                add_scaled(icp, 1.0, 1.0, a, b);
+            }
+            if (l == finest) {
+                if (figures.frame_valid == 0) {
+                    for (int y = 0; y < level.height(); y += step) {
+                        const float* d = level.depth_m.ptr<float>(y);
+                        const uint8_t* m = masks[li].empty() ? nullptr : masks[li].ptr<uint8_t>(y);
+                        for (int x = 0; x < level.width(); x += step)
+                            figures.frame_valid += (d[x] > 0.f) && !(m && m[x]);
+                    }
+                }
+                figures.valid = valid;
+                figures.icp = icp;
+                figures.rgb = rgb;
+                figures.condition = condition_of(a);
+            }
+            if (iterations == 0 || icp.used + rgb.used < kMinRowsForStep) break;
+            const Vector6d xi = a.ldlt().solve(-b);
+            if (!xi.allFinite()) break;
+            reference_T_camera = increment(xi) * reference_T_camera;
+            ++result.iterations;
+            if (xi.head<3>().norm() < config.min_update_translation_m &&
+                xi.tail<3>().norm() < config.min_update_rotation_rad) {
+                break;
+            }
+        }
+    }
+
+    result.inliers = figures.icp.used;
+    result.inlier_ratio = figures.valid > 0 ? static_cast<float>(figures.icp.used) /
+                                                  static_cast<float>(figures.valid)
+                                            : 0.f;
+    result.icp_rmse_m =
+        figures.icp.used > 0
+            ? static_cast<float>(std::sqrt(figures.icp.residual_sq / figures.icp.used))
+            : 0.f;
+    result.rgb_pixels = figures.rgb.used;
+    result.rgb_rmse =
+        figures.rgb.used > 0
+            ? static_cast<float>(std::sqrt(figures.rgb.residual_sq / figures.rgb.used))
+            : 0.f;
+    result.condition = figures.condition;
+
+    const Eigen::Isometry3d estimate = world_T_reference * reference_T_camera;
+    result.reason =
+        lost_reason(figures, result, initial_world_T_camera.inverse() * estimate, config);
+    if (result.reason.empty()) {
+        result.state = TrackingState::kOk;
+        result.world_T_camera = estimate;
+    } else {
+        result.state = TrackingState::kLost;
+        result.world_T_camera = initial_world_T_camera;
+    }
+    return result;
+}
+
+}  // namespace df::slam

@@ -1,0 +1,35 @@
+#pragma once
+/// The parameters of SystemConfig by dotted name ("tracking.icp_max_distance_m"), with unit
+/// and a one-line meaning, for configuration files, command-line overrides, logs and docs.
+#include <cstddef>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "core/status.hpp"
+#include "slam_system/system_config.hpp"
+
+namespace df::slam {
+
+struct Parameter {
+    std::string name;  ///< "<section>.<field>", sections: preprocess tracking map prediction system
+    std::string unit;  ///< "m", "rad", "px", "frames", "" ...
+    std::string meaning;
+    std::variant<float*, double*, int*, bool*, size_t*, std::vector<int>*, std::vector<float>*>
+        value;  ///< points into the SystemConfig the table was made for
+};
+
+/// Every parameter of `config` (pointers into it; the table is valid while config is).
+std::vector<Parameter> parameters(SystemConfig* config);
+
+/// The value as text: "0.1", "true", "10,5,4".
+std::string value_text(const Parameter& parameter);
+
+/// Sets the value from text (the format value_text writes). kInvalidArgument naming the
+/// parameter and the text when it does not parse.
+Status set_value(const Parameter& parameter, const std::string& text);
+
+/// "name = value  [unit]" per line, every parameter, in table order.
+std::string describe(const SystemConfig& config);
+
+}  // namespace df::slam

@@ -1,0 +1,29 @@
+#include "slam_system/system_config.hpp"
+
+namespace df::slam {
+
+std::string validate(const SystemConfig& config) {
+    if (std::string e = validate(config.preprocess); !e.empty()) return e;
+    if (std::string e = validate(config.tracking); !e.empty()) return e;
+    const SystemOptions& s = config.system;
+    if (s.processing_downscale != 1 && s.processing_downscale != 2) {
+        return "system.processing_downscale must be 1 or 2, got " +
+               std::to_string(s.processing_downscale);
+    }
+    if (s.bootstrap_frames < 0) {
+        return "system.bootstrap_frames must be >= 0, got " + std::to_string(s.bootstrap_frames);
+    }
+    if (!(s.predict_min_confidence >= 0.f)) {
+        return "system.predict_min_confidence must be >= 0, got " +
+               std::to_string(s.predict_min_confidence);
+    }
+    if (config.tracking.iterations.size() > static_cast<size_t>(config.preprocess.pyramid_levels)) {
+        return "tracking.iterations has " + std::to_string(config.tracking.iterations.size()) +
+               " levels but preprocess.pyramid_levels is " +
+               std::to_string(config.preprocess.pyramid_levels);
+    }
+    if (config.map.max_surfels == 0) return "map.max_surfels must be > 0";
+    return "";
+}
+
+}  // namespace df::slam

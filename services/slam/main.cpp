@@ -1,0 +1,103 @@
+// df_slam: dense surfel SLAM (static scenes). Subcommands:
+//   offline FOLDER -o OUT   the whole system over a TUM-format folder in one process
+//   run                     the SLAM service: <ns>/frames in, <ns>/camera_pose, stage_status out
+//   params                  every parameter with its default and unit
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+
+#include "core/log.hpp"
+#include "offline.hpp"
+#include "service/service.hpp"
+#include "slam_node.hpp"
+#include "slam_params.hpp"
+#include "slam_system/parameters.hpp"
+
+namespace {
+
+std::atomic<bool> g_save_request{false};
+
+void on_sigusr1(int) { g_save_request.store(true); }
+
+int run_service(const df::config::SlamServiceConfig& config) {
+    df::slam::SystemConfig system_config;
+    if (auto s = df::slam_service::apply(config.slam(), &system_config); !s) {
+        df::log::error(s.message());
+        return 2;
+    }
+    df::log::info("SLAM parameters:\n", df::slam::describe(system_config));
+    if (std::string e = df::slam::validate(system_config); !e.empty()) {
+        df::log::error("SLAM configuration: ", e);
+        return 2;
+    }
+    struct sigaction action {};
+    action.sa_handler = on_sigusr1;
+    sigemptyset(&action.sa_mask);
+    sigaction(SIGUSR1, &action, nullptr);
+    auto participant = df::service::make_participant(config.dds());
+    if (!participant) {
+        df::log::error(participant.status().message());
+        return 1;
+    }
+    auto node = df::slam_service::SlamNode::create(config, system_config, *participant,
+                                                   &g_save_request);
+    if (!node) {
+        df::log::error(node.status().message());
+        return 1;
+    }
+    if (auto s = (*node)->run(); !s) {
+        df::log::error(s.message());
+        return 1;
+    }
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    df::log::set_component("slam");
+    CLI::App app{"df_slam: dense surfel SLAM over RGB-D frames (offline over a folder, or as the "
+                 "pipeline's SLAM service)"};
+    app.require_subcommand(1);
+    df::service::ConfigFlags flags;
+
+    CLI::App* offline = app.add_subcommand("offline", "run over a TUM-format folder, write "
+                                                      "trajectory, map, timings, print ATE");
+    df::slam_service::OfflineOptions options;
+    offline->add_option("folder", options.folder, "TUM RGB-D folder (or df_make_sequence output)")
+        ->required();
+    offline->add_option("-o,--out", options.out_dir, "output folder")->required();
+    offline->add_option("--preset", options.preset,
+                        "camera: fr1, fr2, fr3, 7scenes (default: the folder's intrinsics.txt, "
+                        "else fr3)");
+    offline->add_option("--max-frames", options.max_frames, "stop after this many frames");
+    offline->add_option("--groundtruth", options.groundtruth,
+                        "ground truth for the ATE (default: <folder>/groundtruth.txt)");
+
+    CLI::App* run = app.add_subcommand("run", "the SLAM service (DDS)");
+    // --config/--set belong to the program; given after a subcommand they fall through to it.
+    df::service::add_config_flags(app, &flags);
+    offline->fallthrough();
+    run->fallthrough();
+
+    CLI::App* params = app.add_subcommand("params", "print every SLAM parameter, default, unit");
+    CLI11_PARSE(app, argc, argv);
+
+    if (params->parsed()) {
+        df::slam::SystemConfig config;
+        std::printf("# slam { <section> { <field>: value } } in a service config, or\n"
+                    "# --set 'slam { <section> { <field>: value } }'\n");
+        for (const df::slam::Parameter& p : df::slam::parameters(&config)) {
+            std::printf("%-42s %-10s %-14s %s\n", p.name.c_str(),
+                        df::slam::value_text(p).c_str(), p.unit.empty() ? "-" : p.unit.c_str(),
+                        p.meaning.c_str());
+        }
+        return 0;
+    }
+    df::service::install_stop_handlers();
+    df::config::SlamServiceConfig config;
+    if (!df::service::load_config(flags, &config)) return 2;
+    if (offline->parsed()) return df::slam_service::run_offline(options, config);
+    return run_service(config);
+}

@@ -1,0 +1,56 @@
+#pragma once
+/// What a SLAM run leaves behind, shared by the offline command and the service:
+///   <dir>/trajectory.txt  TUM trajectory of the tracked frames
+///   <dir>/map.ply         the static map (binary PLY: position, normal, colour, radius,
+///                         confidence)
+///   <dir>/timings.log     one "timing seq=N stage=slam preprocess=.. tracking=.. ..." per frame
+///   <dir>/summary.json    frames, lost frames, fps, per-stage median/p95, map size and memory
+#include <cstdint>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/status.hpp"
+#include "slam_system/slam_system.hpp"
+
+namespace df::slam_service {
+
+class RunOutputs {
+  public:
+    /// Creates `dir` (and parents). kIoError naming the folder or file when it cannot.
+    static Result<RunOutputs> open(const std::string& dir);
+
+    /// Records one frame: appends its timing line, keeps its stage times and map size.
+    void add(uint64_t seq, const slam::FrameReport& report);
+
+    /// Writes trajectory, map and summary (wall_s: elapsed time of the run, for fps). Each file
+    /// is written even if another failed; the first error is returned.
+    Status finish(const slam::SlamSystem& system, bool stable_only, double wall_s) const;
+
+    const std::string& dir() const { return dir_; }
+    std::string trajectory_file() const { return dir_ + "/trajectory.txt"; }
+    std::string map_file() const { return dir_ + "/map.ply"; }
+    std::string summary_file() const { return dir_ + "/summary.json"; }
+
+  private:
+    explicit RunOutputs(std::string dir, std::FILE* timings);
+
+    std::string dir_;
+    std::shared_ptr<std::FILE> timings_;
+    std::vector<double> preprocess_ms_, tracking_ms_, fusion_ms_, prediction_ms_, total_ms_;
+    struct MapSample {
+        uint64_t frame;
+        size_t surfels;
+    };
+    std::vector<MapSample> map_growth_;
+    uint64_t frames_ = 0;
+};
+
+/// "median 12.3 ms, p95 15.0 ms" figures of one stage, as summary.json and logs print them.
+struct StageFigures {
+    double median_ms = 0, p95_ms = 0;
+};
+StageFigures figures(const std::vector<double>& values_ms);
+
+}  // namespace df::slam_service
