@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <opencv2/core/utility.hpp>
 
 #include "io/ply/ply.hpp"
 
@@ -137,51 +138,100 @@ Result<FusionStats> SurfelMap::fuse(const cv::Mat& vertex_map_cam, const cv::Mat
     }
 
     FusionStats stats;
-    // One observation per surfel per frame (as ElasticFusion's update pass): when several
-    // pixels show the same surfel (splatted index images cover a disc), the pixel nearest the
-    // surfel's projected centre updates it; the others neither update it nor duplicate it.
-    // Without this a surfel would average in a whole disc of pixels each frame, its confidence
-    // would grow many times faster than it was observed, and its position would wander.
-    owner_pixel_.assign(existing, -1);
-    owner_distance_.assign(existing, std::numeric_limits<float>::infinity());
     const float fx = static_cast<float>(intrinsics.fx), fy = static_cast<float>(intrinsics.fy);
     const float cx = static_cast<float>(intrinsics.cx), cy = static_cast<float>(intrinsics.cy);
-    auto candidate_at = [&](int u, int v, const int32_t* index_row) {
-        return use_index_map ? index_row[u] : zbuffer_index_[static_cast<size_t>(v) * width + u];
+    auto candidate_at = [&](int u, int v) {
+        return use_index_map ? index_map.ptr<int32_t>(v)[u]
+                             : zbuffer_index_[static_cast<size_t>(v) * width + u];
     };
-    for (int v = 0; v < height; ++v) {
-        const int32_t* index_row = use_index_map ? index_map.ptr<int32_t>(v) : nullptr;
-        const uint8_t* mask_row = mask.empty() ? nullptr : mask.ptr<uint8_t>(v);
-        for (int u = 0; u < width; ++u) {
-            if (mask_row != nullptr && mask_row[u] != 0) continue;
-            const int32_t candidate = candidate_at(u, v, index_row);
-            if (candidate < 0 || static_cast<size_t>(candidate) >= existing) continue;
-            const Eigen::Vector3f p =
-                camera_R_world * surfels_[static_cast<size_t>(candidate)].position +
-                camera_t_world;
-            if (!(p.z() > 0.f)) continue;
-            const float du = fx * p.x() / p.z() + cx - static_cast<float>(u);
-            const float dv = fy * p.y() / p.z() + cy - static_cast<float>(v);
-            const float d2 = du * du + dv * dv;
-            if (d2 < owner_distance_[static_cast<size_t>(candidate)]) {
-                owner_distance_[static_cast<size_t>(candidate)] = d2;
-                owner_pixel_[static_cast<size_t>(candidate)] = v * width + u;
+    const auto valid_pixel = [&](int u, int v) {
+        if (!mask.empty() && mask.ptr<uint8_t>(v)[u] != 0) return false;
+        const cv::Vec3f& vc = vertex_map_cam.ptr<cv::Vec3f>(v)[u];
+        const cv::Vec3f& nc = normal_map_cam.ptr<cv::Vec3f>(v)[u];
+        return finite3(vc) && vc[2] > 0.f && finite3(nc) &&
+               !(nc[0] == 0.f && nc[1] == 0.f && nc[2] == 0.f);
+    };
+    // Association (ElasticFusion searches a window of its super-sampled index map): each pixel
+    // looks at the surfels shown in the (2 w + 1)^2 window around it and takes, among those
+    // within the depth and normal gates, the one whose projected centre is nearest the pixel.
+    // A pixel with a surfel of the window within the depth gate but none within both gates sees
+    // known surface with a disagreeing normal: it is neither fused nor made a new surfel (new
+    // surfels would pile up as duplicate layers wherever normals are noisy).
+    const int window = std::max(0, config_.association_window_px);
+    const size_t pixels = static_cast<size_t>(width) * height;
+    pixel_candidate_.assign(pixels, kNoCandidate);
+    pixel_distance_.assign(pixels, std::numeric_limits<float>::infinity());
+    cv::parallel_for_(cv::Range(0, height), [&](const cv::Range& rows) {
+        for (int v = rows.start; v < rows.end; ++v) {
+            for (int u = 0; u < width; ++u) {
+                if (!valid_pixel(u, v)) continue;
+                const cv::Vec3f& vc = vertex_map_cam.ptr<cv::Vec3f>(v)[u];
+                const cv::Vec3f& nc = normal_map_cam.ptr<cv::Vec3f>(v)[u];
+                const Eigen::Vector3f normal =
+                    world_R_camera * Eigen::Vector3f(nc[0], nc[1], nc[2]);
+                int32_t best = kNoCandidate;
+                float best_d2 = std::numeric_limits<float>::infinity();
+                bool surface_near = false;
+                int32_t last = -1;
+                for (int y = std::max(0, v - window); y <= std::min(height - 1, v + window); ++y) {
+                    for (int x = std::max(0, u - window); x <= std::min(width - 1, u + window);
+                         ++x) {
+                        const int32_t c = candidate_at(x, y);
+                        if (c < 0 || static_cast<size_t>(c) >= existing || c == last) continue;
+                        last = c;
+                        const Surfel& s = surfels_[static_cast<size_t>(c)];
+                        const Eigen::Vector3f p = camera_R_world * s.position + camera_t_world;
+                        if (!(p.z() > 0.f) || !(std::abs(p.z() - vc[2]) <
+                                                config_.max_depth_difference_m)) {
+                            continue;
+                        }
+                        surface_near = true;
+                        if (!(s.normal.dot(normal) > min_normal_dot)) continue;
+                        const float du = fx * p.x() / p.z() + cx - static_cast<float>(u);
+                        const float dv = fy * p.y() / p.z() + cy - static_cast<float>(v);
+                        const float d2 = du * du + dv * dv;
+                        if (d2 < best_d2) {
+                            best_d2 = d2;
+                            best = c;
+                        }
+                    }
+                }
+                const size_t pixel = static_cast<size_t>(v) * width + u;
+                pixel_candidate_[pixel] = best >= 0 ? best : (surface_near ? kKnownSurface
+                                                                           : kNoCandidate);
+                pixel_distance_[pixel] = best_d2;
             }
+        }
+    });
+    // One observation per surfel per frame (as ElasticFusion's update pass): when several
+    // pixels choose the same surfel, the pixel nearest the surfel's projected centre updates
+    // it; the others neither update it nor duplicate it. Without this a surfel would average in
+    // a whole disc of pixels each frame, its confidence would grow many times faster than it
+    // was observed, and its position would wander.
+    owner_pixel_.assign(existing, -1);
+    owner_distance_.assign(existing, std::numeric_limits<float>::infinity());
+    for (size_t pixel = 0; pixel < pixels; ++pixel) {
+        const int32_t c = pixel_candidate_[pixel];
+        if (c < 0) continue;
+        if (pixel_distance_[pixel] < owner_distance_[static_cast<size_t>(c)]) {
+            owner_distance_[static_cast<size_t>(c)] = pixel_distance_[pixel];
+            owner_pixel_[static_cast<size_t>(c)] = static_cast<int32_t>(pixel);
         }
     }
     for (int v = 0; v < height; ++v) {
         const auto* vertex_row = vertex_map_cam.ptr<cv::Vec3f>(v);
         const auto* normal_row = normal_map_cam.ptr<cv::Vec3f>(v);
         const auto* rgb_row = rgb.ptr<cv::Vec3b>(v);
-        const uint8_t* mask_row = mask.empty() ? nullptr : mask.ptr<uint8_t>(v);
-        const int32_t* index_row = use_index_map ? index_map.ptr<int32_t>(v) : nullptr;
         for (int u = 0; u < width; ++u) {
-            if (mask_row != nullptr && mask_row[u] != 0) continue;
+            const size_t pixel = static_cast<size_t>(v) * width + u;
+            const int32_t candidate = pixel_candidate_[pixel];
+            if (candidate == kKnownSurface) {
+                ++stats.known_surface;
+                continue;
+            }
+            if (candidate == kNoCandidate && !valid_pixel(u, v)) continue;
             const cv::Vec3f& vc = vertex_row[u];
             const cv::Vec3f& nc = normal_row[u];
-            if (!finite3(vc) || !(vc[2] > 0.f) || !finite3(nc)) continue;
-            if (nc[0] == 0.f && nc[1] == 0.f && nc[2] == 0.f) continue;
-
             const float weight =
                 weight_u_[static_cast<size_t>(u)] * weight_v_[static_cast<size_t>(v)];
             const float radius =
@@ -193,30 +243,25 @@ Result<FusionStats> SurfelMap::fuse(const cv::Mat& vertex_map_cam, const cv::Mat
             const cv::Vec3b& c = rgb_row[u];
             const Eigen::Vector3f colour(c[0], c[1], c[2]);
 
-            const int32_t candidate = candidate_at(u, v, index_row);
-            if (candidate >= 0 && static_cast<size_t>(candidate) < existing) {
-                Surfel& s = surfels_[static_cast<size_t>(candidate)];
-                const float surfel_z = camera_R_world.row(2).dot(s.position) + camera_t_world.z();
-                if (std::abs(surfel_z - vc[2]) < config_.max_depth_difference_m &&
-                    s.normal.dot(normal) > min_normal_dot) {
-                    if (owner_pixel_[static_cast<size_t>(candidate)] != v * width + u) {
-                        ++stats.covered;
-                        continue;
-                    }
-                    const float sum = s.confidence + weight;
-                    if (radius < config_.merge_radius_factor * s.radius) {
-                        const float a = s.confidence / sum;
-                        const float b = weight / sum;
-                        s.position = a * s.position + b * position;
-                        s.normal = (a * s.normal + b * normal).normalized();
-                        s.colour = a * s.colour + b * colour;
-                        s.radius = a * s.radius + b * radius;
-                    }
-                    s.confidence = sum;
-                    s.last_seen_frame = frame_index;
-                    ++stats.fused;
+            if (candidate >= 0) {
+                if (owner_pixel_[static_cast<size_t>(candidate)] != static_cast<int32_t>(pixel)) {
+                    ++stats.covered;
                     continue;
                 }
+                Surfel& s = surfels_[static_cast<size_t>(candidate)];
+                const float sum = s.confidence + weight;
+                if (radius < config_.merge_radius_factor * s.radius) {
+                    const float a = s.confidence / sum;
+                    const float b = weight / sum;
+                    s.position = a * s.position + b * position;
+                    s.normal = (a * s.normal + b * normal).normalized();
+                    s.colour = a * s.colour + b * colour;
+                    s.radius = a * s.radius + b * radius;
+                }
+                s.confidence = sum;
+                s.last_seen_frame = frame_index;
+                ++stats.fused;
+                continue;
             }
             if (surfels_.size() >= config_.max_surfels) {
                 ++stats.rejected_by_capacity;
@@ -317,7 +362,8 @@ void SurfelMap::remove_free_space(const cv::Mat& vertex_map_cam, const cv::Mat& 
 
 size_t SurfelMap::clean(int frame_index) {
     const auto end = std::remove_if(surfels_.begin(), surfels_.end(), [&](const Surfel& s) {
-        return !is_stable(s) && frame_index - s.init_frame > config_.unstable_max_age_frames;
+        return !is_stable(s) &&
+               frame_index - s.last_seen_frame > config_.unstable_max_unseen_frames;
     });
     const auto removed = static_cast<size_t>(surfels_.end() - end);
     surfels_.erase(end, surfels_.end());

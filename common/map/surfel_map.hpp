@@ -52,9 +52,13 @@ struct SurfelMapConfig {
     /// mean focal length and n_z the camera-frame normal's z. The floor 0.2 bounds the radius of
     /// grazing observations at 5x that of a fronto-parallel one.
     float min_abs_normal_z = 0.2f;
-    /// Unstable surfels (confidence < stable_confidence) whose age (frame - init_frame) exceeds
-    /// this many frames are removed by clean().
-    int unstable_max_age_frames = 20;
+    /// Unstable surfels (confidence < stable_confidence) not fused for more than this many
+    /// frames (frame - last_seen_frame) are removed by clean(), as ElasticFusion does.
+    int unstable_max_unseen_frames = 20;
+    /// Fusion association searches the (2 w + 1)^2 pixels of the index image around each pixel
+    /// for a surfel within the gates (ElasticFusion: a window of its 4x super-sampled index
+    /// map). 0 = the pixel's own surfel only.
+    int association_window_px = 1;
     /// Surfels not seen for more than this many frames are inactive: they are not projected for
     /// association (they stay in the map for loop closure and export).
     int active_time_window_frames = 200;
@@ -127,6 +131,9 @@ struct PredictionConfig {
 /// What one call of fuse() did.
 struct FusionStats {
     size_t fused = 0;                 ///< observations merged into an existing surfel
+    /// observations with a surfel of their window within the depth gate but none within the
+    /// normal gate as well: neither fused nor created (noisy normals on known surface)
+    size_t known_surface = 0;
     /// observations of a surfel already updated by a pixel nearer its centre this frame (one
     /// update per surfel and frame); neither fused nor created
     size_t covered = 0;
@@ -165,8 +172,8 @@ class SurfelMap {
                              const Eigen::Isometry3f& world_T_camera,
                              const io::Intrinsics& intrinsics, int frame_index);
 
-    /// Removes unstable surfels older than config.unstable_max_age_frames (relative to
-    /// frame_index); returns how many were removed. Keeps the order of the others.
+    /// Removes unstable surfels not fused for more than config.unstable_max_unseen_frames
+    /// (relative to frame_index); returns how many were removed. Keeps the order of the others.
     size_t clean(int frame_index);
 
     /// Renders the map from a camera: the active surfels (is_active at frame_index) that face
@@ -227,6 +234,10 @@ class SurfelMap {
     std::vector<float> zbuffer_depth_;
     std::vector<float> weight_u_;  ///< per column and per row factors of the observation weight
     std::vector<float> weight_v_;
+    static constexpr int32_t kNoCandidate = -1;   ///< pixel_candidate_: nothing associated
+    static constexpr int32_t kKnownSurface = -2;  ///< pixel_candidate_: see known_surface
+    std::vector<int32_t> pixel_candidate_;  ///< per pixel: chosen surfel or a k* marker
+    std::vector<float> pixel_distance_;     ///< its squared pixel distance to the centre
     std::vector<int32_t> owner_pixel_;   ///< per existing surfel: the pixel that updates it
     std::vector<float> owner_distance_;  ///< its squared distance to the projected centre
     std::vector<float> measured_depth_;  ///< metres, 0 = no evidence (free-space pass)

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "slam/pose.hpp"
 #include "slam/tracker_terms.hpp"
 
 namespace df::slam {
@@ -240,7 +241,10 @@ Result<TrackingResult> track(const Frame& frame, const ModelView& model,
     const std::vector<cv::Mat> masks = tracker_detail::build_mask_pyramid(mask, levels);
     const double w = config.icp_weight;
 
-    Eigen::Isometry3d reference_T_camera = world_T_reference.inverse() * initial_world_T_camera;
+    // Inputs projected onto SE(3) first: inverse() below is only exact for rigid poses.
+    const Eigen::Isometry3d reference = orthonormalized(world_T_reference);
+    const Eigen::Isometry3d initial = orthonormalized(initial_world_T_camera);
+    Eigen::Isometry3d reference_T_camera = reference.inverse() * initial;
     TrackingResult result;
     Figures figures;
     for (int l = levels - 1; l >= 0; --l) {
@@ -289,7 +293,7 @@ Result<TrackingResult> track(const Frame& frame, const ModelView& model,
             if (iterations == 0 || icp.used + rgb.used < kMinRowsForStep) break;
             const Vector6d xi = a.ldlt().solve(-b);
             if (!xi.allFinite()) break;
-            reference_T_camera = increment(xi) * reference_T_camera;
+            reference_T_camera = orthonormalized(increment(xi) * reference_T_camera);
             ++result.iterations;
             if (xi.head<3>().norm() < config.min_update_translation_m &&
                 xi.tail<3>().norm() < config.min_update_rotation_rad) {
@@ -313,15 +317,14 @@ Result<TrackingResult> track(const Frame& frame, const ModelView& model,
             : 0.f;
     result.condition = figures.condition;
 
-    const Eigen::Isometry3d estimate = world_T_reference * reference_T_camera;
-    result.reason =
-        lost_reason(figures, result, initial_world_T_camera.inverse() * estimate, config);
+    const Eigen::Isometry3d estimate = orthonormalized(reference * reference_T_camera);
+    result.reason = lost_reason(figures, result, initial.inverse() * estimate, config);
     if (result.reason.empty()) {
         result.state = TrackingState::kOk;
         result.world_T_camera = estimate;
     } else {
         result.state = TrackingState::kLost;
-        result.world_T_camera = initial_world_T_camera;
+        result.world_T_camera = initial;
     }
     return result;
 }

@@ -3,6 +3,8 @@
 #include <chrono>
 #include <opencv2/imgproc.hpp>
 
+#include "slam/pose.hpp"
+
 namespace df::slam {
 namespace {
 
@@ -38,7 +40,7 @@ Result<SlamSystem> SlamSystem::create(const SystemConfig& config,
 }
 
 SlamSystem::SlamSystem(const SystemConfig& config, const Eigen::Isometry3d& initial)
-    : config_(config), map_(config.map), world_T_camera_(initial) {}
+    : config_(config), map_(config.map), world_T_camera_(orthonormalized(initial)) {}
 
 void SlamSystem::downscale(const io::RgbdImage& in, const cv::Mat& mask_in, io::RgbdImage* out,
                            cv::Mat* mask_out) const {
@@ -101,7 +103,9 @@ Result<FrameReport> SlamSystem::process(const io::RgbdImage& image, const cv::Ma
     } else {
         t = std::chrono::steady_clock::now();
         Eigen::Isometry3d guess = world_T_camera_;
-        if (config_.system.constant_velocity && !lost_) guess = world_T_camera_ * last_motion_;
+        if (config_.system.constant_velocity && !lost_) {
+            guess = orthonormalized(world_T_camera_ * last_motion_);
+        }
         Result<TrackingResult> tracked =
             track(*frame, model_, world_T_model_, guess, work_mask, config_.tracking);
         if (!tracked) return tracked.status().with_context(where);
@@ -110,7 +114,10 @@ Result<FrameReport> SlamSystem::process(const io::RgbdImage& image, const cv::Ma
     }
     const bool ok = report.tracking.state == TrackingState::kOk;
     if (ok) {
-        if (!report.first) last_motion_ = world_T_camera_.inverse() * report.tracking.world_T_camera;
+        if (!report.first) {
+            last_motion_ =
+                orthonormalized(world_T_camera_.inverse() * report.tracking.world_T_camera);
+        }
         world_T_camera_ = report.tracking.world_T_camera;
         trajectory_.push_back(stamped(image.sensor_ns, world_T_camera_));
     } else {

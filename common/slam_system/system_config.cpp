@@ -23,6 +23,10 @@ std::string validate(const SystemConfig& config) {
                std::to_string(config.preprocess.pyramid_levels);
     }
     if (config.map.max_surfels == 0) return "map.max_surfels must be > 0";
+    if (config.map.association_window_px < 0 || config.map.association_window_px > 4) {
+        return "map.association_window_px must be 0..4, got " +
+               std::to_string(config.map.association_window_px);
+    }
     return "";
 }
 

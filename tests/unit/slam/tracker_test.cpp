@@ -234,6 +234,22 @@ TEST(Tracker, CornerIcpOnlyRecoversMotion) {
     EXPECT_EQ(r.rgb_pixels, 0);
 }
 
+TEST(Tracker, ReturnsARigidPoseEvenFromSlightlyScaledInputs) {
+    // Poses that went through many products lose orthonormality; the tracker must not pass the
+    // error on (Isometry3d::inverse() transposes, which turns a scale 1+e into 1+3e per frame).
+    const Scene scene = room_corner(true);
+    const Rendered a = render(scene, kCornerA);
+    const Rendered b = render(scene, kCornerA * kCornerMotion);
+    Eigen::Isometry3d scaled = a.world_T_camera;
+    scaled.linear() *= 1.0 + 1e-4;
+    Result<TrackingResult> r = track(b.frame, model_of(a), scaled, scaled, cv::Mat(), {});
+    ASSERT_TRUE(r.is_ok()) << r.status().to_string();
+    expect_pose_near(*r, b.world_T_camera);
+    const Eigen::Matrix3d rot = r->world_T_camera.linear();
+    EXPECT_LT((rot.transpose() * rot - Eigen::Matrix3d::Identity()).norm(), 1e-12);
+    EXPECT_NEAR(rot.determinant(), 1.0, 1e-12);
+}
+
 TEST(Tracker, HalfResolutionInputRecoversMotion) {
     const Scene scene = room_corner(true);
     const Rendered a = render(scene, kCornerA, 320, 240);
