@@ -15,8 +15,10 @@ namespace df::slam {
 struct SystemOptions {
     /// 1: process the input at its own resolution; 2: halve width and height first (depth by
     /// nearest neighbour, so no depth is averaged across edges; colour by area averaging), which
-    /// makes every stage about 4x cheaper at some cost in accuracy.
-    int processing_downscale = 1;
+    /// makes every stage about 4x cheaper at some cost in accuracy. Default 2: on this project's
+    /// 2-core reference machine it is the resolution that keeps tracking + mapping within 50 ms
+    /// per frame (docs/benchmarks.md); use 1 where a faster CPU allows.
+    int processing_downscale = 2;
     /// The model tracking aligns to renders surfels with confidence >= this (ElasticFusion
     /// tracks against its confident surfels: fresh, noisy ones would pull the pose) ...
     float predict_min_confidence = 0.f;

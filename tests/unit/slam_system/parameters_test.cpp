@@ -21,7 +21,7 @@ TEST(SlamParameters, ConfigTextSetsTheStructFields) {
     config::SlamParams params;
     ASSERT_TRUE(google::protobuf::TextFormat::ParseFromString(
         "tracking { icp_max_distance_m: 0.2 iterations: [4, 3, 2] use_rgb: false }"
-        " map { max_surfels: 1234 } system { processing_downscale: 2 }"
+        " map { max_surfels: 1234 } system { processing_downscale: 1 }"
         " preprocess { max_depth_m: 4.5 }",
         &params));
     SystemConfig config;
@@ -30,7 +30,7 @@ TEST(SlamParameters, ConfigTextSetsTheStructFields) {
     EXPECT_EQ(config.tracking.iterations, (std::vector<int>{4, 3, 2}));
     EXPECT_FALSE(config.tracking.use_rgb);
     EXPECT_EQ(config.map.max_surfels, 1234u);
-    EXPECT_EQ(config.system.processing_downscale, 2);
+    EXPECT_EQ(config.system.processing_downscale, 1);
     EXPECT_FLOAT_EQ(config.preprocess.max_depth_m, 4.5f);
     // Untouched fields keep the library defaults.
     EXPECT_FLOAT_EQ(config.tracking.icp_weight, TrackingConfig{}.icp_weight);

@@ -78,6 +78,17 @@ TEST(SlamAccuracy, HalfsphereMotionAteBelowOneCentimetre) {
     EXPECT_LE(r.ate_rmse_m, 0.010);
 }
 
+TEST(SlamAccuracy, HalfsphereMotionAtFullResolutionAteBelowOneCentimetre) {
+    SystemConfig config;
+    config.system.processing_downscale = 1;
+    const RunResult r = run("static_halfsphere", kFrames, config);
+    std::printf("static_halfsphere %d frames, full resolution: ATE RMSE %.2f mm, %zu surfels\n",
+                kFrames, r.ate_rmse_m * 1000, r.surfels);
+    EXPECT_GE(r.ate_rmse_m, 0.0);
+    EXPECT_LE(r.ate_rmse_m, 0.01);
+    EXPECT_EQ(r.lost, 0u);
+}
+
 TEST(SlamAccuracy, StillCameraStaysPutForManyFrames) {
     // One noisy frame fed 120 times: the estimate must not move. (Regression: a rotation that
     // was not kept orthonormal grew its scale error 3x per frame through Isometry3d::inverse()
@@ -86,18 +97,25 @@ TEST(SlamAccuracy, StillCameraStaysPutForManyFrames) {
     const test::SimFrame f = test::render_sim_frame(s, 0);
     auto system = SlamSystem::create(SystemConfig{}, f.world_T_camera);
     ASSERT_TRUE(system.is_ok()) << system.status().message();
+    Eigen::Isometry3d settled = Eigen::Isometry3d::Identity();
     for (int i = 0; i < 120; ++i) {
         auto report = system->process(f.image);
         ASSERT_TRUE(report.is_ok()) << report.status().message();
         ASSERT_EQ(report->tracking.state, TrackingState::kOk)
             << "frame " << i << ": " << report->tracking.reason;
+        // Within noise of the start (the model is an average, the frame one noisy sample) ...
         const Eigen::Isometry3d moved = f.world_T_camera.inverse() * system->world_T_camera();
-        ASSERT_LT(moved.translation().norm(), 0.5e-3) << "frame " << i;
-        ASSERT_LT(Eigen::AngleAxisd(moved.linear()).angle(), 1e-3) << "frame " << i;
+        ASSERT_LT(moved.translation().norm(), 2e-3) << "frame " << i;
+        ASSERT_LT(Eigen::AngleAxisd(moved.linear()).angle(), 2e-3) << "frame " << i;
         const Eigen::Matrix3d r = system->world_T_camera().linear();
         ASSERT_LT((r.transpose() * r - Eigen::Matrix3d::Identity()).norm(), 1e-9)
             << "frame " << i;
+        if (i == 20) settled = system->world_T_camera();
     }
+    // ... and, once the map has settled, not creeping at all.
+    const Eigen::Isometry3d creep = settled.inverse() * system->world_T_camera();
+    EXPECT_LT(creep.translation().norm(), 0.2e-3);
+    EXPECT_LT(Eigen::AngleAxisd(creep.linear()).angle(), 0.2e-3);
 }
 
 TEST(SlamAccuracy, UnrecoverableJumpIsReportedLostNotAWrongPose) {
