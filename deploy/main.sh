@@ -44,4 +44,22 @@ echo "trajectory: $slam_out/trajectory.txt (TUM format)"
 echo "map:        $slam_out/map.ply (open in MeshLab, CloudCompare or Open3D)"
 echo "plots:      $slam_out/ate.png; figures: $slam_out/ate.json, $slam_out/summary.json"
 echo "logs:       $run_dir/logs/"
+
+# The static SLAM core above tracks everything it sees, moving objects included. Until the
+# segmentation services exist, show what masks of the moving things buy: the same frames in
+# one process with the sequence's ground-truth instance masks (simulated segmentation).
+if [ -d "$DF_DATA/instances" ]; then
+  masked_out="$DF_OUT/slam_gt_masks"
+  rm -rf "$masked_out"
+  echo
+  echo "== the same frames with SIMULATED segmentation: ground-truth instance masks (df_slam offline --masks) =="
+  if build/bin/df_slam offline "$DF_DATA" -o "$masked_out" --masks "$DF_DATA/instances" \
+      >"$masked_out.log" 2>&1; then
+    grep -E "^processed|^ATE" "$masked_out.log" || true
+    echo "map: $masked_out/map.ply; log: $masked_out.log"
+  else
+    echo "the masked run failed; see $masked_out.log" >&2
+    status=1
+  fi
+fi
 exit $status

@@ -72,6 +72,12 @@ int main(int argc, char** argv) {
                         "camera: fr1, fr2, fr3, 7scenes (default: the folder's intrinsics.txt, "
                         "else fr3)");
     offline->add_option("--max-frames", options.max_frames, "stop after this many frames");
+    offline->add_option("--masks", options.masks,
+                        "folder of per-frame masks <stamp>.png (non-zero = leave out of "
+                        "tracking and fusion), e.g. a generated sequence's instances/");
+    offline->add_option("--mask-dilate", options.mask_dilate_px,
+                        "grow the masks by this many pixels")
+        ->check(CLI::Range(0, 32));
     offline->add_option("--groundtruth", options.groundtruth,
                         "ground truth for the ATE (default: <folder>/groundtruth.txt)");
 

@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <sstream>
 
 #include "capture.pb.h"
@@ -64,6 +66,34 @@ Status input_config(const OfflineOptions& o, config::CaptureConfig* c) {
     return Status::ok();
 }
 
+/// The mask of the frame stamped `sensor_ns`, from options.masks (see OfflineOptions).
+Result<cv::Mat> read_mask(const OfflineOptions& o, const io::RgbdImage& image) {
+    char name[64];
+    std::snprintf(name, sizeof name, "%.6f.png", static_cast<double>(image.sensor_ns) * 1e-9);
+    const std::string file = o.masks + "/" + name;
+    if (!std::filesystem::exists(file)) {
+        return error(StatusCode::kNotFound, "no mask " + file + " for this frame");
+    }
+    const cv::Mat raw = cv::imread(file, cv::IMREAD_UNCHANGED);
+    if (raw.empty() || raw.channels() != 1) {
+        return error(StatusCode::kInvalidArgument,
+                     "mask " + file + " is not a readable single-channel PNG");
+    }
+    if (raw.size() != image.depth.size()) {
+        return error(StatusCode::kInvalidArgument,
+                     "mask " + file + " is " + std::to_string(raw.cols) + "x" +
+                         std::to_string(raw.rows) + ", the frame " +
+                         std::to_string(image.depth.cols) + "x" +
+                         std::to_string(image.depth.rows));
+    }
+    cv::Mat mask = raw != 0;
+    if (o.mask_dilate_px > 0) {
+        const int k = 2 * o.mask_dilate_px + 1;
+        cv::dilate(mask, mask, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k)));
+    }
+    return mask;
+}
+
 void print_ate(const std::string& gt_file, const std::string& est_file) {
     auto gt = eval::load_trajectory(gt_file);
     auto est = eval::load_trajectory(est_file);
@@ -95,6 +125,14 @@ int run_offline(const OfflineOptions& options, const config::SlamServiceConfig& 
         return 1;
     }
     log::info("input: ", (*source)->describe());
+    if (!options.masks.empty()) {
+        if (!std::filesystem::is_directory(options.masks)) {
+            log::error("--masks ", options.masks, " is not a folder");
+            return 1;
+        }
+        log::info("masks: ", options.masks, " (non-zero pixels left out, grown by ",
+                  options.mask_dilate_px, " px)");
+    }
     slam::SystemConfig system_config;
     if (Status s = apply(config.slam(), &system_config); !s) {
         log::error(s.message());
@@ -124,7 +162,18 @@ int run_offline(const OfflineOptions& options, const config::SlamServiceConfig& 
             ++seq;
             continue;
         }
-        auto report = system->process(read.image);
+        cv::Mat mask;
+        if (!options.masks.empty()) {
+            Result<cv::Mat> m = read_mask(options, read.image);
+            if (!m) {
+                log::error("seq=", seq, " frame skipped: ", m.status().message());
+                ++bad_frames;
+                ++seq;
+                continue;
+            }
+            mask = std::move(m).value();
+        }
+        auto report = system->process(read.image, mask);
         if (!report) {
             log::error("seq=", seq, " frame not processed: ", report.status().message());
             ++bad_frames;

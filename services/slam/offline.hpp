@@ -17,6 +17,12 @@ struct OfflineOptions {
     uint64_t max_frames = 0;  ///< 0 = all
     /// Ground truth for the ATE printed at the end: "" = <folder>/groundtruth.txt if present.
     std::string groundtruth;
+    /// Folder of per-frame masks "<stamp>.png" (stamp of the colour image, 6 decimals, as the
+    /// TUM lists and df_make_sequence's instances/ name them), 8- or 16-bit, any non-zero pixel
+    /// left out of tracking and fusion. "" = no masks. With a generated sequence's instances/
+    /// this is ground-truth (simulated) segmentation, an upper bound for issue 5's masks.
+    std::string masks;
+    int mask_dilate_px = 2;  ///< masks grown by this many pixels (object rims have mixed depth)
 };
 
 /// Runs to the end of the folder; returns the process exit code (0 ok, 1 failure).

@@ -52,6 +52,19 @@ fi
 grep -q "processing_downscale" "$TMP/bad.out" || fail "bad value not named: $(cat "$TMP/bad.out")"
 pass "bad folder and bad configuration named"
 
+# --- masks: a generated sequence's instances/ (ground-truth segmentation) ---
+"$BIN/df_make_sequence" --preset default --out "$TMP/dyn" --frames 8 --no-models >/dev/null 2>&1 \
+  || fail "df_make_sequence default failed"
+"$BIN/df_slam" offline "$TMP/dyn" -o "$TMP/dyn_out" --masks "$TMP/dyn/instances" >"$TMP/dyn.out" 2>"$TMP/dyn.err" \
+  || fail "masked offline failed: $(tail -5 "$TMP/dyn.err")"
+grep -q "^processed 8 frames (0 lost, 0 bad)" "$TMP/dyn.out" || fail "masked run: $(cat "$TMP/dyn.out")"
+mkdir -p "$TMP/few_masks"
+cp "$TMP/dyn/instances/1.000000.png" "$TMP/few_masks/"
+"$BIN/df_slam" offline "$TMP/dyn" -o "$TMP/few_out" --masks "$TMP/few_masks" --max-frames 3 >"$TMP/few.out" 2>&1 || true
+grep -q "no mask $TMP/few_masks/1.033333.png" "$TMP/few.out" || fail "missing mask not named: $(cat "$TMP/few.out")"
+grep -q "^processed 1 frames (0 lost, 2 bad)" "$TMP/few.out" || fail "missing masks not counted as bad frames: $(cat "$TMP/few.out")"
+pass "masks: instances/ applied; a missing mask file is named and its frame skipped"
+
 # --- the service behind capture (lockstep, shared memory) ---
 "$BIN/df_tap" record -o "$TMP/poses.mcap" "$NS/camera_pose" --wait 20 --idle 4 >"$TMP/rec.out" 2>"$TMP/rec.err" &
 rec=$!; pids+=($rec)
