@@ -381,24 +381,25 @@ Points normals_of(const Points& left, const Points& right, const Points& up, con
 }
 
 template <class Source>
-cv::Mat normal_map(const Source& points, cv::Size size) {
+cv::Mat normal_map(const Source& points, cv::Size size, int r) {
     cv::Mat out(size, CV_32FC3);
     const int w = size.width, h = size.height;
     cv::parallel_for_(cv::Range(0, h), [&](const cv::Range& rows) {
         for (int y = rows.start; y < rows.end; ++y) {
             float* o = out.ptr<float>(y);
-            if (y == 0 || y == h - 1 || w < 3) {
+            if (y < r || y >= h - r || w < 2 * r + 1) {
                 std::fill(o, o + 3 * w, 0.f);
                 continue;
             }
-            std::fill(o, o + 3, 0.f);
-            std::fill(o + 3 * (w - 1), o + 3 * w, 0.f);
-            // Pixels [x, x + kLanes) of [1, w - 1); lanes past w - 2 are computed and dropped.
-            for (int x = 1; x < w - 1; x += kLanes) {
+            std::fill(o, o + 3 * r, 0.f);
+            std::fill(o + 3 * (w - r), o + 3 * w, 0.f);
+            // Pixels [x, x + kLanes) of [r, w - r); lanes past w - r - 1 are computed and
+            // dropped.
+            for (int x = r; x < w - r; x += kLanes) {
                 const Points n =
-                    normals_of(points.load(y, x - 1), points.load(y, x + 1), points.load(y - 1, x),
-                               points.load(y + 1, x), points.load(y, x));
-                store_points(o, x, w - 1, n);
+                    normals_of(points.load(y, x - r), points.load(y, x + r), points.load(y - r, x),
+                               points.load(y + r, x), points.load(y, x));
+                store_points(o, x, w - r, n);
             }
         }
     });
@@ -421,14 +422,14 @@ cv::Mat compute_vertex_map(const cv::Mat& depth_m, const io::Intrinsics& k) {
     return out;
 }
 
-cv::Mat compute_normal_map(const cv::Mat& vertex) {
-    CV_Assert(vertex.type() == CV_32FC3);
-    return normal_map(VertexPoints(vertex), vertex.size());
+cv::Mat compute_normal_map(const cv::Mat& vertex, int baseline_px) {
+    CV_Assert(vertex.type() == CV_32FC3 && baseline_px >= 1);
+    return normal_map(VertexPoints(vertex), vertex.size(), baseline_px);
 }
 
-cv::Mat compute_normal_map(const cv::Mat& depth_m, const io::Intrinsics& k) {
-    CV_Assert(depth_m.type() == CV_32F);
-    return normal_map(DepthRays(depth_m, k), depth_m.size());
+cv::Mat compute_normal_map(const cv::Mat& depth_m, const io::Intrinsics& k, int baseline_px) {
+    CV_Assert(depth_m.type() == CV_32F && baseline_px >= 1);
+    return normal_map(DepthRays(depth_m, k), depth_m.size(), baseline_px);
 }
 
 cv::Mat rgb_to_intensity(const cv::Mat& rgb) {

@@ -33,14 +33,14 @@ io::Intrinsics scale_intrinsics(const io::Intrinsics& k, int level);
 /// CV_32FC3 back-projection ((u - cx) z / fx, (v - cy) z / fy, z); (0,0,0) where depth is 0.
 cv::Mat compute_vertex_map(const cv::Mat& depth_m, const io::Intrinsics& k);
 
-/// CV_32FC3 unit normals from central differences of `vertex` ((x+1) - (x-1) crossed with
-/// (y+1) - (y-1)), oriented so that n . vertex < 0 (towards the camera). (0,0,0) on the border
-/// and where the pixel or one of its 4 neighbours is invalid.
-cv::Mat compute_normal_map(const cv::Mat& vertex);
+/// CV_32FC3 unit normals from central differences of `vertex` ((x+b) - (x-b) crossed with
+/// (y+b) - (y-b), b = baseline_px >= 1), oriented so that n . vertex < 0 (towards the camera).
+/// (0,0,0) on the b-pixel border and where the pixel or one of its 4 neighbours is invalid.
+cv::Mat compute_normal_map(const cv::Mat& vertex, int baseline_px = 1);
 
-/// compute_normal_map(compute_vertex_map(depth_m, k)), bit for bit, without the intermediate
-/// vertex map.
-cv::Mat compute_normal_map(const cv::Mat& depth_m, const io::Intrinsics& k);
+/// compute_normal_map(compute_vertex_map(depth_m, k), baseline_px), bit for bit, without the
+/// intermediate vertex map.
+cv::Mat compute_normal_map(const cv::Mat& depth_m, const io::Intrinsics& k, int baseline_px = 1);
 
 /// CV_32F intensity 0.299 R + 0.587 G + 0.114 B (0..255) of a CV_8UC3 R,G,B image.
 cv::Mat rgb_to_intensity(const cv::Mat& rgb);

@@ -17,6 +17,8 @@ std::string validate(const PreprocessConfig& c) {
             << " bilateral_sigma_depth_m=" << c.bilateral_sigma_depth_m;
     } else if (c.bilateral_radius_px < 0 || c.bilateral_radius_px > 16) {
         msg << "bilateral_radius_px must be in 0..16, got " << c.bilateral_radius_px;
+    } else if (c.normal_baseline_px < 1 || c.normal_baseline_px > 8) {
+        msg << "normal_baseline_px must be in 1..8, got " << c.normal_baseline_px;
     } else if (c.pyramid_levels < 1 || c.pyramid_levels > 8) {
         msg << "pyramid_levels must be in 1..8, got " << c.pyramid_levels;
     } else if (!(c.pyramid_max_depth_diff_m > 0.f)) {
@@ -50,10 +52,11 @@ std::string validate_image(const io::RgbdImage& image, int levels) {
 }
 
 // Vertices, normals and intensity gradients of a level whose depths and intensity are set.
-void finish_level(FrameLevel& level) {
+void finish_level(FrameLevel& level, int normal_baseline_px) {
     level.vertex = compute_vertex_map(level.depth_m, level.intrinsics);
     level.smoothed_vertex = compute_vertex_map(level.smoothed_depth_m, level.intrinsics);
-    level.normal = compute_normal_map(level.smoothed_depth_m, level.intrinsics);
+    level.normal =
+        compute_normal_map(level.smoothed_depth_m, level.intrinsics, normal_baseline_px);
     cv::Sobel(level.intensity, level.grad_x, CV_32F, 1, 0, 3, 1.0 / 8.0);
     cv::Sobel(level.intensity, level.grad_y, CV_32F, 0, 1, 3, 1.0 / 8.0);
 }
@@ -81,7 +84,7 @@ Result<Frame> preprocess(const io::RgbdImage& image, const PreprocessConfig& con
         bilateral_filter_depth(base.depth_m, config.bilateral_sigma_space_px,
                                config.bilateral_sigma_depth_m, config.bilateral_radius_px);
     base.intensity = rgb_to_intensity(image.rgb);
-    finish_level(base);
+    finish_level(base, config.normal_baseline_px);
 
     for (size_t l = 1; l < frame.levels.size(); ++l) {
         const FrameLevel& finer = frame.levels[l - 1];
@@ -91,7 +94,7 @@ Result<Frame> preprocess(const io::RgbdImage& image, const PreprocessConfig& con
         level.smoothed_depth_m =
             downsample_depth(finer.smoothed_depth_m, config.pyramid_max_depth_diff_m);
         cv::pyrDown(finer.intensity, level.intensity, level.depth_m.size());
-        finish_level(level);
+        finish_level(level, config.normal_baseline_px);
     }
     return frame;
 }

@@ -206,6 +206,7 @@ std::string validate(const TrackingConfig& c) {
     positive("rgb_max_depth_difference_m", c.rgb_max_depth_difference_m);
     positive("icp_huber_m", c.icp_huber_m);
     positive("rgb_huber", c.rgb_huber);
+    non_negative("max_depth_m", c.max_depth_m);
     non_negative("min_update_translation_m", c.min_update_translation_m);
     non_negative("min_update_rotation_rad", c.min_update_rotation_rad);
     non_negative("min_inlier_ratio", c.min_inlier_ratio);
@@ -282,7 +283,9 @@ Result<TrackingResult> track(const Frame& frame, const ModelView& model,
                         const float* d = level.depth_m.ptr<float>(y);
                         const uint8_t* m = masks[li].empty() ? nullptr : masks[li].ptr<uint8_t>(y);
                         for (int x = 0; x < level.width(); x += step)
-                            figures.frame_valid += (d[x] > 0.f) && !(m && m[x]);
+                            figures.frame_valid += (d[x] > 0.f) && !(m && m[x]) &&
+                                                   (config.max_depth_m <= 0.f ||
+                                                    d[x] <= config.max_depth_m);
                     }
                 }
                 figures.valid = valid;

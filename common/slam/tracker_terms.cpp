@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 
 #include "slam/depth_maps.hpp"
@@ -263,6 +264,8 @@ NormalEquations accumulate_icp(const FrameLevel& frame, const cv::Mat& mask, int
     const float max_d2 = config.icp_max_distance_m * config.icp_max_distance_m;
     const float max_sin2 = config.icp_max_normal_sin * config.icp_max_normal_sin;
     const float huber = config.icp_huber_m;
+    const float max_z = config.max_depth_m > 0.f ? config.max_depth_m
+                                                 : std::numeric_limits<float>::infinity();
     const float* R = pose.r;
     const float* t = pose.t;
     const int width = frame.width(), stepped_rows = (frame.height() + step - 1) / step;
@@ -284,7 +287,9 @@ NormalEquations accumulate_icp(const FrameLevel& frame, const cv::Mat& mask, int
             for (int x = 0; x < width; x += step) {
                 const cv::Vec3f& p = fv[x];
                 const cv::Vec3f& n = fn[x];
-                if (!(p[2] > 0.f) || !is_valid_normal(n) || (m && m[x])) continue;
+                if (!(p[2] > 0.f) || !(p[2] <= max_z) || !is_valid_normal(n) || (m && m[x])) {
+                    continue;
+                }
                 const float qx = R[0] * p[0] + R[1] * p[1] + R[2] * p[2] + t[0];
                 const float qy = R[3] * p[0] + R[4] * p[1] + R[5] * p[2] + t[1];
                 const float qz = R[6] * p[0] + R[7] * p[1] + R[8] * p[2] + t[2];
@@ -296,7 +301,7 @@ NormalEquations accumulate_icp(const FrameLevel& frame, const cv::Mat& mask, int
                 const float* mv = reinterpret_cast<const float*>(
                                       model_vertex + static_cast<size_t>(vi) * vertex_stride) +
                                   3 * ui;
-                if (!(mv[2] > 0.f)) continue;
+                if (!(mv[2] > 0.f) || !(mv[2] <= max_z)) continue;
                 const float* mn = reinterpret_cast<const float*>(
                                       model_normal + static_cast<size_t>(vi) * normal_stride) +
                                   3 * ui;
@@ -346,6 +351,8 @@ NormalEquations accumulate_rgb(const ModelLevel& model, int step, const FrameLev
     const float min_grad2 = min_gradient * min_gradient;
     const float max_dz = config.rgb_max_depth_difference_m;
     const float huber = config.rgb_huber;
+    const float max_z = config.max_depth_m > 0.f ? config.max_depth_m
+                                                 : std::numeric_limits<float>::infinity();
     const float* Rc = camera_T_reference.r;
     const float* tc = camera_T_reference.t;
     const float* Rr = reference_T_camera.r;
@@ -358,7 +365,7 @@ NormalEquations accumulate_rgb(const ModelLevel& model, int step, const FrameLev
             const float* mi = model.intensity.ptr<float>(my);
             for (int mx = 0; mx < width; mx += step) {
                 const cv::Vec3f& p = mv[mx];
-                if (!(p[2] > 0.f) || mi[mx] < 0.f) continue;
+                if (!(p[2] > 0.f) || !(p[2] <= max_z) || mi[mx] < 0.f) continue;
                 const float x = Rc[0] * p[0] + Rc[1] * p[1] + Rc[2] * p[2] + tc[0];
                 const float y = Rc[3] * p[0] + Rc[4] * p[1] + Rc[5] * p[2] + tc[1];
                 const float z = Rc[6] * p[0] + Rc[7] * p[1] + Rc[8] * p[2] + tc[2];

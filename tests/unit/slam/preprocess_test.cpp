@@ -79,8 +79,9 @@ TEST(Preprocess, FrontoParallelPlane) {
                 ASSERT_NEAR(p[0], (u - k.cx) / k.fx * 1.5, 1e-5);
                 ASSERT_NEAR(p[1], (v - k.cy) / k.fy * 1.5, 1e-5);
                 const cv::Vec3f n = level.normal.at<cv::Vec3f>(v, u);
+                const int b = PreprocessConfig{}.normal_baseline_px;
                 const bool border =
-                    u == 0 || v == 0 || u == level.width() - 1 || v == level.height() - 1;
+                    u < b || v < b || u >= level.width() - b || v >= level.height() - b;
                 ASSERT_EQ(is_valid_normal(n), !border) << "level " << l << " at " << u << "," << v;
                 if (border) continue;
                 ++valid_normals;
@@ -90,7 +91,8 @@ TEST(Preprocess, FrontoParallelPlane) {
                 EXPECT_LT(n.dot(p), 0.f);
             }
         }
-        EXPECT_EQ(valid_normals, (level.width() - 2) * (level.height() - 2));
+        const int b = PreprocessConfig{}.normal_baseline_px;
+        EXPECT_EQ(valid_normals, (level.width() - 2 * b) * (level.height() - 2 * b));
     }
 }
 
@@ -126,9 +128,9 @@ TEST(Preprocess, TiltedPlaneNormalWithinOneDegree) {
 }
 
 TEST(Preprocess, OutOfRangeDepthIsInvalid) {
-    // Columns: 0.2 m (too near), 1 m, 3.5 m (too far), 0 (no reading).
+    // Columns: 0.2 m (too near), 1 m, 6.5 m (too far), 0 (no reading).
     const Frame frame = preprocess_ok(make_image([](int u, int) {
-        return u < 160 ? 0.2 : u < 320 ? 1.0 : u < 480 ? 3.5 : 0.0;
+        return u < 160 ? 0.2 : u < 320 ? 1.0 : u < 480 ? 6.5 : 0.0;
     }));
     const FrameLevel& base = frame.levels[0];
     for (int u : {10, 100, 200, 300, 400, 470, 500, 630}) {
@@ -140,10 +142,13 @@ TEST(Preprocess, OutOfRangeDepthIsInvalid) {
         EXPECT_EQ(is_valid_normal(base.normal.at<cv::Vec3f>(240, u)), valid) << u;
         EXPECT_FALSE(std::isnan(z));
     }
-    // Normals need all 4 neighbours: the last valid column has none.
-    EXPECT_FALSE(is_valid_normal(base.normal.at<cv::Vec3f>(240, 319)));
-    EXPECT_FALSE(is_valid_normal(base.normal.at<cv::Vec3f>(240, 160)));
-    EXPECT_TRUE(is_valid_normal(base.normal.at<cv::Vec3f>(240, 161)));
+    // Normals need all 4 neighbours, normal_baseline_px away: the columns that close to the
+    // invalid ones have none.
+    const int b = PreprocessConfig{}.normal_baseline_px;
+    EXPECT_FALSE(is_valid_normal(base.normal.at<cv::Vec3f>(240, 320 - b)));
+    EXPECT_FALSE(is_valid_normal(base.normal.at<cv::Vec3f>(240, 160 + b - 1)));
+    EXPECT_TRUE(is_valid_normal(base.normal.at<cv::Vec3f>(240, 160 + b)));
+    EXPECT_TRUE(is_valid_normal(base.normal.at<cv::Vec3f>(240, 319 - b)));
 
     PreprocessConfig far;
     far.max_depth_m = 4.0f;
@@ -300,15 +305,15 @@ cv::Mat reference_vertex_map(const cv::Mat& depth, const io::Intrinsics& k) {
     return out;
 }
 
-cv::Mat reference_normal_map(const cv::Mat& vertex) {
+cv::Mat reference_normal_map(const cv::Mat& vertex, int b = 1) {
     cv::Mat out(vertex.size(), CV_32FC3, cv::Scalar::all(0));
-    for (int v = 1; v + 1 < vertex.rows; ++v) {
-        for (int u = 1; u + 1 < vertex.cols; ++u) {
+    for (int v = b; v + b < vertex.rows; ++v) {
+        for (int u = b; u + b < vertex.cols; ++u) {
             const cv::Vec3f mid = vertex.at<cv::Vec3f>(v, u);
-            const cv::Vec3f left = vertex.at<cv::Vec3f>(v, u - 1);
-            const cv::Vec3f right = vertex.at<cv::Vec3f>(v, u + 1);
-            const cv::Vec3f up = vertex.at<cv::Vec3f>(v - 1, u);
-            const cv::Vec3f down = vertex.at<cv::Vec3f>(v + 1, u);
+            const cv::Vec3f left = vertex.at<cv::Vec3f>(v, u - b);
+            const cv::Vec3f right = vertex.at<cv::Vec3f>(v, u + b);
+            const cv::Vec3f up = vertex.at<cv::Vec3f>(v - b, u);
+            const cv::Vec3f down = vertex.at<cv::Vec3f>(v + b, u);
             if (mid[2] <= 0.f || left[2] <= 0.f || right[2] <= 0.f || up[2] <= 0.f ||
                 down[2] <= 0.f) {
                 continue;
@@ -368,6 +373,12 @@ TEST(Preprocess, MapsAreBitIdenticalToOnePixelReferences) {
         const cv::Mat normal = reference_normal_map(vertex);
         EXPECT_TRUE(bit_identical(compute_normal_map(vertex), normal)) << where;
         EXPECT_TRUE(bit_identical(compute_normal_map(smoothed, k), normal)) << where;
+        for (int b : {2, 3}) {
+            const cv::Mat wide = reference_normal_map(vertex, b);
+            EXPECT_TRUE(bit_identical(compute_normal_map(vertex, b), wide)) << where << " b=" << b;
+            EXPECT_TRUE(bit_identical(compute_normal_map(smoothed, k, b), wide))
+                << where << " b=" << b;
+        }
         EXPECT_TRUE(
             bit_identical(downsample_depth(depth, 0.09f), reference_downsample(depth, 0.09f)))
             << where;
