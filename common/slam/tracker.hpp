@@ -69,9 +69,7 @@ struct TrackingConfig {
     float min_update_rotation_rad = 1e-5f;
     /// The estimate is rejected (state kLost) when, at the finest level tracked:
     /// - fewer than this fraction of the frame's valid pixels that land on the model (at the
-    ///   final estimate) are ICP inliers, or. (Kinect v1 depth at full resolution: normals are
-    ///   noisy enough that the normal gate rejects 30-50 % of correct associations at 2-3 m;
-    ///   7-Scenes sits near 0.5 there, so use 0.3 or half resolution, where it is 0.7-0.85.)
+    ///   final estimate) are ICP inliers, or
     float min_inlier_ratio = 0.5f;
     /// - fewer than this fraction of all the frame's valid pixels are ICP inliers (a view that
     ///   barely overlaps the model), or

@@ -29,11 +29,8 @@ PY
 }
 run_ours() {  # name folder preset downscale
   local dir="$out/$1"
-  # Full resolution on Kinect v1 depth needs the lower inlier ratio (docs/slam.md, Limits).
-  local ratio=""
-  [ "$4" = 1 ] && ratio="tracking { min_inlier_ratio: 0.3 }"
   "$bin/df_slam" offline "$2" -o "$dir" ${3:+--preset $3} \
-    --set "slam { system { processing_downscale: $4 } $ratio }" --set 'output { log_every: 0 }' \
+    --set "slam { system { processing_downscale: $4 } }" --set 'output { log_every: 0 }' \
     >"$dir.out" 2>"$dir.log" || { echo "df_slam failed, see $dir.log"; tail -3 "$dir.log"; return 1; }
   "$bin/df_eval" ate "$2/groundtruth.txt" "$dir/trajectory.txt" --json "$dir/ate.json" \
     --plot "$dir/ate.png" >/dev/null
