@@ -147,8 +147,7 @@ Result<InstanceSegmentation> segment_instances(const cv::Mat& segment_labels, in
                 for (int32_t s : touched) {
                     const int in = inter[static_cast<size_t>(s)];
                     if (inside_of(s) >= config.min_inside_fraction && in > best &&
-                        in >= config.min_core_box_fraction * box_area &&
-                        stats.depth_count[static_cast<size_t>(s)] > 0) {
+                        in >= config.min_core_box_fraction * box_area) {
                         best = in;
                         core = s;
                     }
@@ -174,10 +173,13 @@ Result<InstanceSegmentation> segment_instances(const cv::Mat& segment_labels, in
                 const double core_depth = stats.mean_depth(core);
                 for (int32_t s : touched) {
                     if (std::find(taken.begin(), taken.end(), s) != taken.end()) continue;
-                    if (inside_of(s) >= config.min_inside_fraction &&
-                        stats.depth_count[static_cast<size_t>(s)] > 0 &&
-                        std::fabs(stats.mean_depth(s) - core_depth) <=
-                            config.max_depth_from_core_m) {
+                    // Without depth (none given, or none valid) the depth test is skipped.
+                    const bool near_core = depth_m.empty() ||
+                                           stats.depth_count[static_cast<size_t>(s)] == 0 ||
+                                           stats.depth_count[static_cast<size_t>(core)] == 0 ||
+                                           std::fabs(stats.mean_depth(s) - core_depth) <=
+                                               config.max_depth_from_core_m;
+                    if (inside_of(s) >= config.min_inside_fraction && near_core) {
                         taken.push_back(s);
                     }
                 }

@@ -9,6 +9,15 @@ std::vector<detect::Detection> simulate_detections(const cv::Mat& instance,
                                                    const std::vector<DynamicObject>& objects,
                                                    int frame,
                                                    const SimulatedDetectorConfig& config) {
+    std::vector<ObjectClass> classes;
+    for (const DynamicObject& o : objects) classes.push_back({o.class_id, o.class_name});
+    return simulate_detections(instance, classes, frame, config);
+}
+
+std::vector<detect::Detection> simulate_detections(const cv::Mat& instance,
+                                                   const std::vector<ObjectClass>& objects,
+                                                   int frame,
+                                                   const SimulatedDetectorConfig& config) {
     std::vector<detect::Detection> out;
     if (instance.empty() || instance.type() != CV_16UC1) return out;
     // Bounding box and pixel count per object id.
@@ -31,7 +40,7 @@ std::vector<detect::Detection> simulate_detections(const cv::Mat& instance,
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     std::normal_distribution<double> gauss(0.0, 1.0);
     for (size_t id = 1; id <= n; ++id) {
-        const DynamicObject& o = objects[id - 1];
+        const ObjectClass& o = objects[id - 1];
         // Draw every random number for every object, so one object's miss does not change
         // another's jitter.
         const double miss = unit(rng);
@@ -65,14 +74,14 @@ std::vector<detect::Detection> simulate_detections(const cv::Mat& instance,
         d.box = cv::Rect2f(static_cast<float>(unit(rng) * (instance.cols - w)),
                            static_cast<float>(unit(rng) * (instance.rows - h)),
                            static_cast<float>(w), static_cast<float>(h));
-        std::vector<const DynamicObject*> known;
-        for (const DynamicObject& o : objects)
+        std::vector<const ObjectClass*> known;
+        for (const ObjectClass& o : objects)
             if (o.class_id >= 0) known.push_back(&o);
         if (known.empty()) {
             d.class_id = 56;
             d.class_name = "chair";
         } else {
-            const DynamicObject* o = known[static_cast<size_t>(unit(rng) * known.size()) % known.size()];
+            const ObjectClass* o = known[static_cast<size_t>(unit(rng) * known.size()) % known.size()];
             d.class_id = o->class_id;
             d.class_name = o->class_name;
         }

@@ -6,6 +6,7 @@
 /// configurable and drawn from a seeded generator (same seed and frame, same boxes); latency is
 /// for the caller (the detector service) to apply. The real detector is df_detect (YOLO).
 #include <cstdint>
+#include <string>
 #include <opencv2/core.hpp>
 #include <vector>
 
@@ -23,6 +24,18 @@ struct SimulatedDetectorConfig {
     double latency_ms = 0.0;      ///< added delay the detector service waits before answering
     uint64_t seed = 1;
 };
+
+/// The class of instance id k + 1 (what instances.json lists).
+struct ObjectClass {
+    int class_id = -1;  ///< COCO index; -1: unknown (never detected)
+    std::string class_name;
+};
+
+/// Boxes of the objects visible in `instance` (CV_16UC1, 0 = static scene, k = classes[k - 1]).
+std::vector<detect::Detection> simulate_detections(const cv::Mat& instance,
+                                                   const std::vector<ObjectClass>& classes,
+                                                   int frame,
+                                                   const SimulatedDetectorConfig& config);
 
 /// Boxes of the objects visible in `instance` (CV_16UC1, 0 = static scene, k = objects[k - 1],
 /// as sim::render writes it) for frame `frame`. False positives take a random COCO class of the

@@ -1,0 +1,246 @@
+#include "detector_node.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <thread>
+
+#include "core/log.hpp"
+#include "dds/msg_convert.hpp"
+#include "eval/segmentation.hpp"
+#include "service/service.hpp"
+
+namespace df::detector_service {
+namespace {
+
+int64_t now_ns() {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(
+               std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+}
+
+class YoloSource : public BoxSource {
+  public:
+    explicit YoloSource(std::unique_ptr<detect::Detector> d) : detector_(std::move(d)) {}
+    Result<std::vector<detect::Detection>> detect(const io::RgbdImage& image, uint64_t) override {
+        return detector_->detect(image.rgb, detect::ColorOrder::kRgb);  // frames carry R,G,B
+    }
+    std::string describe() const override {
+        const auto& c = detector_->config();
+        return "YOLO " + (c.model_path.empty() ? detect::default_yolov5_dir() : c.model_path) +
+               " at " + std::to_string(c.input_width) + "x" + std::to_string(c.input_height);
+    }
+
+  private:
+    std::unique_ptr<detect::Detector> detector_;
+};
+
+/// SIMULATED: boxes from the sequence's instances/<stamp>.png and instances.json.
+class SimulatedSource : public BoxSource {
+  public:
+    SimulatedSource(std::string folder, std::vector<sim::ObjectClass> classes,
+                    sim::SimulatedDetectorConfig config)
+        : folder_(std::move(folder)), classes_(std::move(classes)), config_(config) {}
+    Result<std::vector<detect::Detection>> detect(const io::RgbdImage& image,
+                                                  uint64_t seq) override {
+        char name[64];
+        std::snprintf(name, sizeof name, "%.6f.png", static_cast<double>(image.sensor_ns) * 1e-9);
+        const std::string file = folder_ + "/instances/" + name;
+        const cv::Mat instance = cv::imread(file, cv::IMREAD_UNCHANGED);
+        if (instance.empty() || instance.type() != CV_16UC1) {
+            return error(StatusCode::kNotFound, "simulated detector: no 16-bit instance image " + file);
+        }
+        if (config_.latency_ms > 0) {
+            std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(config_.latency_ms));
+        }
+        return sim::simulate_detections(instance, classes_, static_cast<int>(seq), config_);
+    }
+    std::string describe() const override {
+        return "SIMULATED detector on the ground truth of " + folder_;
+    }
+
+  private:
+    std::string folder_;
+    std::vector<sim::ObjectClass> classes_;
+    sim::SimulatedDetectorConfig config_;
+};
+
+}  // namespace
+
+Result<std::unique_ptr<BoxSource>> open_source(const config::DetectorServiceConfig& c) {
+    if (c.model() == "simulated") {
+        if (c.sim_sequence().empty() || !std::filesystem::is_directory(c.sim_sequence())) {
+            return error(StatusCode::kNotFound,
+                         "model \"simulated\" needs sim_sequence: a generated sequence folder, got \"" +
+                             c.sim_sequence() + "\"");
+        }
+        auto instances = eval::read_instances_json(c.sim_sequence() + "/instances.json");
+        if (!instances) return instances.status();
+        std::vector<sim::ObjectClass> classes;
+        for (const eval::GtInstance& g : *instances) {
+            if (g.id < 1) continue;
+            if (classes.size() < static_cast<size_t>(g.id)) classes.resize(static_cast<size_t>(g.id));
+            classes[static_cast<size_t>(g.id) - 1] = {g.class_id, g.class_name};
+        }
+        sim::SimulatedDetectorConfig s;
+        s.miss_rate = c.sim_miss_rate();
+        s.false_positives_per_frame = c.sim_false_positives_per_frame();
+        s.box_jitter = c.sim_box_jitter();
+        s.latency_ms = c.sim_latency_ms();
+        s.seed = c.sim_seed();
+        return std::unique_ptr<BoxSource>(new SimulatedSource(c.sim_sequence(), classes, s));
+    }
+    detect::DetectorConfig d;
+    if (c.model() == "yolov5") {
+        d.kind = detect::ModelKind::kTfjsYolov5;
+    } else if (c.model() == "darknet") {
+        d.kind = detect::ModelKind::kDarknet;
+    } else if (c.model() == "onnx") {
+        d.kind = detect::ModelKind::kOnnx;
+    } else {
+        return error(StatusCode::kInvalidArgument,
+                     "model must be yolov5, darknet, onnx or simulated, got \"" + c.model() + "\"");
+    }
+    d.model_path = c.model_path();
+    d.weights_path = c.weights_path();
+    d.names_path = c.names_path();
+    d.input_width = c.input_width();
+    d.input_height = c.input_height();
+    d.score_threshold = c.score_threshold();
+    d.nms_iou_threshold = c.nms_iou_threshold();
+    d.threads = c.threads();
+    auto detector = detect::open_detector(d);
+    if (!detector) return detector.status();
+    return std::unique_ptr<BoxSource>(new YoloSource(std::move(*detector)));
+}
+
+Result<std::unique_ptr<DetectorNode>> DetectorNode::create(
+    const config::DetectorServiceConfig& config, std::unique_ptr<BoxSource> source,
+    dds::Participant& participant) {
+    const std::string& ns = config.dds().ns();
+    auto frames = dds::Reader<df_msg_RgbdFrame>::create(
+        participant, dds::topic_name(ns, dds::topics::kFrames));
+    if (!frames) return frames.status();
+    auto detections = dds::Writer<df_msg_Detections>::create(
+        participant, dds::topic_name(ns, dds::topics::kDetections));
+    if (!detections) return detections.status();
+    auto status = dds::Writer<df_msg_StageStatus>::create(
+        participant, dds::topic_name(ns, dds::topics::kStageStatus));
+    if (!status) return status.status();
+    auto waitset = dds::WaitSet::create(participant);
+    if (!waitset) return waitset.status();
+    DF_RETURN_IF_ERROR(waitset->attach_reader(frames->get()));
+    return std::unique_ptr<DetectorNode>(new DetectorNode(
+        config, std::move(source), std::move(*frames), std::move(*detections), std::move(*status),
+        std::move(*waitset)));
+}
+
+DetectorNode::DetectorNode(const config::DetectorServiceConfig& config,
+                           std::unique_ptr<BoxSource> source, dds::Reader<df_msg_RgbdFrame> frames,
+                           dds::Writer<df_msg_Detections> detections,
+                           dds::Writer<df_msg_StageStatus> status, dds::WaitSet waitset)
+    : config_(config),
+      source_(std::move(source)),
+      frames_(std::move(frames)),
+      detections_(std::move(detections)),
+      status_(std::move(status)),
+      waitset_(std::move(waitset)) {}
+
+void DetectorNode::answer(const df_msg_Header& header, df_msg_FrameStatus status,
+                          const std::vector<detect::Detection>& boxes, int width, int height,
+                          double ms) {
+    df_msg_Detections m{};
+    m.header = header;
+    m.header.status = status;
+    m.image_width = static_cast<uint16_t>(width);
+    m.image_height = static_cast<uint16_t>(height);
+    for (const detect::Detection& d : boxes) {
+        if (m.count >= df_msg_MAX_DETECTIONS) break;
+        df_msg_Detection& b = m.boxes[m.count++];
+        b.x = d.box.x;
+        b.y = d.box.y;
+        b.w = d.box.width;
+        b.h = d.box.height;
+        b.class_id = d.class_id;
+        b.score = d.score;
+    }
+    if (Status s = detections_.write_copy(m); !s) log::warn("seq=", header.seq, " ", s.message());
+    df_msg_StageStatus st{};
+    st.header = m.header;
+    dds::set_name(st.stage, config_.stage());
+    if (status == df_msg_FRAME_OK) {
+        st.timing_count = 1;
+        dds::set_name(st.timings[0].name, "detect");
+        st.timings[0].ms = static_cast<float>(ms);
+    }
+    (void)status_.write_copy(st);
+}
+
+void DetectorNode::handle(const io::RgbdImage& image, const df_msg_Header& header) {
+    const uint32_t nth = std::max<uint32_t>(1, config_.every_nth());
+    if (header.seq % nth != 0) {
+        ++skipped_;
+        answer(header, df_msg_FRAME_SKIPPED, {}, image.rgb.cols, image.rgb.rows, 0);
+        return;
+    }
+    const int64_t t0 = now_ns();
+    auto boxes = source_->detect(image, header.seq);
+    const double ms = static_cast<double>(now_ns() - t0) * 1e-6;
+    if (!boxes) {
+        ++failed_;
+        log::error("seq=", header.seq, " ", boxes.status().message());
+        answer(header, df_msg_FRAME_FAILED, {}, image.rgb.cols, image.rgb.rows, ms);
+        return;
+    }
+    ++detected_;
+    answer(header, df_msg_FRAME_OK, *boxes, image.rgb.cols, image.rgb.rows, ms);
+}
+
+Status DetectorNode::run() {
+    log::info(source_->describe(), "; waiting for frames on ", frames_.topic());
+    bool had_writers = false, started = false;
+    int64_t last_ns = now_ns();
+    struct Pending {
+        io::RgbdImage image;
+        df_msg_Header header;
+    };
+    while (!service::stop_requested()) {
+        auto woke = waitset_.wait(DDS_MSECS(100));
+        if (!woke) return woke.status();
+        std::vector<Pending> pending;
+        auto taken = frames_.take(
+            [&](const df_msg_RgbdFrame& f, const dds_sample_info_t& info) {
+                if (!info.valid_data) return;
+                pending.push_back({dds::to_image(f), f.header});
+            },
+            16);
+        if (!taken) return taken.status();
+        for (size_t i = 0; i < pending.size(); ++i) {
+            started = true;
+            last_ns = now_ns();
+            if (i + 1 < pending.size()) {  // stay current: answer the older ones skipped
+                ++skipped_;
+                answer(pending[i].header, df_msg_FRAME_SKIPPED, {}, pending[i].image.rgb.cols,
+                       pending[i].image.rgb.rows, 0);
+            } else {
+                handle(pending[i].image, pending[i].header);
+            }
+        }
+        const uint32_t writers = frames_.matched_writers();
+        if (writers > 0) had_writers = true;
+        const bool gone = started && had_writers && writers == 0 && pending.empty();
+        const bool idle = started && config_.idle_exit_s() > 0 &&
+                          static_cast<double>(now_ns() - last_ns) * 1e-9 > config_.idle_exit_s();
+        if (gone || idle) {
+            log::info("stream ended: ", detected_, " frames detected, ", skipped_, " skipped, ",
+                      failed_, " failed");
+            if (config_.exit_at_end()) return Status::ok();
+            had_writers = started = false;
+            detected_ = skipped_ = failed_ = 0;
+        }
+    }
+    return Status::ok();
+}
+
+}  // namespace df::detector_service

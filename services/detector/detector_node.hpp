@@ -1,0 +1,57 @@
+#pragma once
+/// The detector service's adapter: <ns>/frames in; for every frame <ns>/detections (boxes, or
+/// status skipped when it drops a frame to stay current or by every_nth) and <ns>/stage_status
+/// out. The model is YOLO through df_detect, or the SIMULATED detector reading a generated
+/// sequence's ground truth.
+#include <memory>
+#include <vector>
+
+#include "dds/participant.hpp"
+#include "dds/reader.hpp"
+#include "dds/waitset.hpp"
+#include "dds/writer.hpp"
+#include "detect/detector.hpp"
+#include "detector.pb.h"
+#include "df_msgs.h"
+#include "io/rgbd_image.hpp"
+#include "sim/simulated_detector.hpp"
+
+namespace df::detector_service {
+
+/// What produces the boxes of one image.
+class BoxSource {
+  public:
+    virtual ~BoxSource() = default;
+    virtual Result<std::vector<detect::Detection>> detect(const io::RgbdImage& image,
+                                                          uint64_t seq) = 0;
+    virtual std::string describe() const = 0;
+};
+
+/// The source a configuration names; errors name the model file or sequence folder.
+Result<std::unique_ptr<BoxSource>> open_source(const config::DetectorServiceConfig& config);
+
+class DetectorNode {
+  public:
+    static Result<std::unique_ptr<DetectorNode>> create(const config::DetectorServiceConfig& config,
+                                                        std::unique_ptr<BoxSource> source,
+                                                        dds::Participant& participant);
+    Status run();
+
+  private:
+    DetectorNode(const config::DetectorServiceConfig& config, std::unique_ptr<BoxSource> source,
+                 dds::Reader<df_msg_RgbdFrame> frames, dds::Writer<df_msg_Detections> detections,
+                 dds::Writer<df_msg_StageStatus> status, dds::WaitSet waitset);
+    void handle(const io::RgbdImage& image, const df_msg_Header& header);
+    void answer(const df_msg_Header& header, df_msg_FrameStatus status,
+                const std::vector<detect::Detection>& boxes, int width, int height, double ms);
+
+    config::DetectorServiceConfig config_;
+    std::unique_ptr<BoxSource> source_;
+    dds::Reader<df_msg_RgbdFrame> frames_;
+    dds::Writer<df_msg_Detections> detections_;
+    dds::Writer<df_msg_StageStatus> status_;
+    dds::WaitSet waitset_;
+    uint64_t detected_ = 0, skipped_ = 0, failed_ = 0;
+};
+
+}  // namespace df::detector_service

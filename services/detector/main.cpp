@@ -1,0 +1,40 @@
+// df_detector: 2D object detection on every frame (YOLO through OpenCV, or the SIMULATED
+// detector on a generated sequence), as a DDS service (docs/segmentation.md).
+#include <CLI/CLI.hpp>
+
+#include "core/log.hpp"
+#include "detector_node.hpp"
+#include "service/service.hpp"
+
+int main(int argc, char** argv) {
+    df::log::set_component("detector");
+    CLI::App app{"df_detector: COCO object detection (YOLO, or simulated from ground truth) as a "
+                 "DDS service"};
+    df::service::ConfigFlags flags;
+    df::service::add_config_flags(app, &flags);
+    CLI11_PARSE(app, argc, argv);
+    df::service::install_stop_handlers();
+    df::config::DetectorServiceConfig config;
+    if (!df::service::load_config(flags, &config)) return 2;
+    auto source = df::detector_service::open_source(config);
+    if (!source) {
+        df::log::error(source.status().message());
+        return 2;
+    }
+    auto participant = df::service::make_participant(config.dds());
+    if (!participant) {
+        df::log::error(participant.status().message());
+        return 1;
+    }
+    auto node =
+        df::detector_service::DetectorNode::create(config, std::move(*source), *participant);
+    if (!node) {
+        df::log::error(node.status().message());
+        return 1;
+    }
+    if (auto s = (*node)->run(); !s) {
+        df::log::error(s.message());
+        return 1;
+    }
+    return 0;
+}

@@ -1,0 +1,280 @@
+#include "fusion_node.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+
+#include "core/log.hpp"
+#include "dds/msg_convert.hpp"
+#include "detect/detector.hpp"
+#include "service/service.hpp"
+
+namespace df::fusion_service {
+namespace {
+
+int64_t now_ns() {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(
+               std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+}
+
+sync::Arrival arrival_of(df_msg_FrameStatus s) {
+    switch (s) {
+        case df_msg_FRAME_OK:
+            return sync::Arrival::kOk;
+        case df_msg_FRAME_SKIPPED:
+            return sync::Arrival::kSkipped;
+        default:
+            return sync::Arrival::kFailed;
+    }
+}
+
+}  // namespace
+
+Result<FusionSettings> settings_from(const config::FusionServiceConfig& c) {
+    FusionSettings s;
+    s.join.detection_deadline_ns = static_cast<int64_t>(c.detection_deadline_ms() * 1e6);
+    s.join.reuse_max_age_ns = static_cast<int64_t>(c.reuse_max_age_ms() * 1e6);
+    s.join.max_pending = c.max_pending();
+    if (c.has_min_iou()) s.instance.min_iou = c.min_iou();
+    if (c.has_min_inside_fraction()) s.instance.min_inside_fraction = c.min_inside_fraction();
+    if (c.has_min_core_box_fraction()) s.instance.min_core_box_fraction = c.min_core_box_fraction();
+    if (c.has_min_fill_fraction()) s.instance.min_fill_fraction = c.min_fill_fraction();
+    if (c.has_min_instance_pixels()) s.instance.min_instance_pixels = c.min_instance_pixels();
+    const detect::DetectorConfig defaults;
+    s.rigid = c.rigid_classes().empty()
+                  ? defaults.rigid_classes
+                  : std::set<std::string>(c.rigid_classes().begin(), c.rigid_classes().end());
+    s.non_rigid = c.non_rigid_classes().empty() ? defaults.non_rigid_classes
+                                                : std::set<std::string>(c.non_rigid_classes().begin(),
+                                                                        c.non_rigid_classes().end());
+    const auto& names = detect::coco_names();
+    for (const auto* set : {&s.rigid, &s.non_rigid}) {
+        for (const std::string& n : *set) {
+            if (std::find(names.begin(), names.end(), n) == names.end()) {
+                return error(StatusCode::kInvalidArgument,
+                             "class '" + n + "' is not a COCO class name (see coco.names)");
+            }
+        }
+    }
+    if (std::string e = sync::validate(s.join); !e.empty()) {
+        return error(StatusCode::kInvalidArgument, e);
+    }
+    if (std::string e = seg::validate(s.instance); !e.empty()) {
+        return error(StatusCode::kInvalidArgument, e);
+    }
+    return s;
+}
+
+Result<std::unique_ptr<FusionNode>> FusionNode::create(const config::FusionServiceConfig& config,
+                                                       const FusionSettings& settings,
+                                                       dds::Participant& participant) {
+    const std::string& ns = config.dds().ns();
+    auto segments = dds::Reader<df_msg_GeometricSegments>::create(
+        participant, dds::topic_name(ns, dds::topics::kGeometricSegments));
+    if (!segments) return segments.status();
+    auto detections = dds::Reader<df_msg_Detections>::create(
+        participant, dds::topic_name(ns, dds::topics::kDetections));
+    if (!detections) return detections.status();
+    auto objects = dds::Writer<df_msg_ObjectSegments>::create(
+        participant, dds::topic_name(ns, dds::topics::kObjectSegments));
+    if (!objects) return objects.status();
+    auto status = dds::Writer<df_msg_StageStatus>::create(
+        participant, dds::topic_name(ns, dds::topics::kStageStatus));
+    if (!status) return status.status();
+    auto waitset = dds::WaitSet::create(participant);
+    if (!waitset) return waitset.status();
+    DF_RETURN_IF_ERROR(waitset->attach_reader(segments->get()));
+    DF_RETURN_IF_ERROR(waitset->attach_reader(detections->get()));
+    return std::unique_ptr<FusionNode>(
+        new FusionNode(config, settings, std::move(*segments), std::move(*detections),
+                       std::move(*objects), std::move(*status), std::move(*waitset)));
+}
+
+FusionNode::FusionNode(const config::FusionServiceConfig& config, const FusionSettings& settings,
+                       dds::Reader<df_msg_GeometricSegments> segments,
+                       dds::Reader<df_msg_Detections> detections,
+                       dds::Writer<df_msg_ObjectSegments> objects,
+                       dds::Writer<df_msg_StageStatus> status, dds::WaitSet waitset)
+    : config_(config),
+      settings_(settings),
+      segments_in_(std::move(segments)),
+      detections_in_(std::move(detections)),
+      objects_(std::move(objects)),
+      status_(std::move(status)),
+      waitset_(std::move(waitset)),
+      join_(settings.join) {}
+
+Status FusionNode::take(int64_t now) {
+    auto s = segments_in_.take(
+        [&](const df_msg_GeometricSegments& m, const dds_sample_info_t& info) {
+            if (!info.valid_data) return;
+            Segments seg;
+            seg.header = m.header;
+            if (m.header.status == df_msg_FRAME_OK &&
+                static_cast<size_t>(m.width) * m.height <= df_msg_MAX_PIXELS) {
+                seg.labels.create(m.height, m.width, CV_32SC1);
+                const uint16_t* in = m.labels;
+                for (int y = 0; y < m.height; ++y) {
+                    int32_t* row = seg.labels.ptr<int32_t>(y);
+                    for (int x = 0; x < m.width; ++x) row[x] = *in++;
+                }
+                seg.count = static_cast<int>(m.segment_count);
+            }
+            const auto arrival = seg.labels.empty() && m.header.status == df_msg_FRAME_OK
+                                     ? sync::Arrival::kFailed
+                                     : arrival_of(m.header.status);
+            segments_[m.header.seq] = std::move(seg);
+            join_.on_segments(m.header.seq, static_cast<int64_t>(m.header.capture_ns), arrival,
+                              now);
+        },
+        32);
+    if (!s) return s.status();
+    const auto& names = detect::coco_names();
+    auto d = detections_in_.take(
+        [&](const df_msg_Detections& m, const dds_sample_info_t& info) {
+            if (!info.valid_data) return;
+            std::vector<detect::Detection> boxes;
+            for (uint32_t i = 0; i < std::min<uint32_t>(m.count, df_msg_MAX_DETECTIONS); ++i) {
+                const df_msg_Detection& b = m.boxes[i];
+                detect::Detection det;
+                det.box = cv::Rect2f(b.x, b.y, b.w, b.h);
+                det.class_id = b.class_id;
+                det.class_name = b.class_id >= 0 && static_cast<size_t>(b.class_id) < names.size()
+                                     ? names[static_cast<size_t>(b.class_id)]
+                                     : "unknown";
+                det.score = b.score;
+                boxes.push_back(det);
+            }
+            detections_[m.header.seq] = std::move(boxes);
+            join_.on_detections(m.header.seq, static_cast<int64_t>(m.header.capture_ns),
+                                arrival_of(m.header.status), now);
+        },
+        32);
+    return d ? Status::ok() : d.status();
+}
+
+void FusionNode::publish(const sync::JoinDecision& d) {
+    const auto t0 = now_ns();
+    const auto it = segments_.find(d.seq);
+    if (it == segments_.end()) return;
+    const Segments& seg = it->second;
+    auto loan = objects_.loan();
+    if (!loan) {
+        log::error("seq=", d.seq, " no sample to publish: ", loan.status().message());
+        return;
+    }
+    df_msg_ObjectSegments& m = **loan;
+    m.header = seg.header;
+    m.detections_used = false;
+    m.detections_seq = 0;
+    m.instance_count = 0;
+    m.width = m.height = 0;
+    if (d.segments == sync::Arrival::kOk && !seg.labels.empty()) {
+        std::vector<detect::Detection> boxes;
+        if (d.detections_used) {
+            const auto det = detections_.find(d.detections_seq);
+            if (det != detections_.end()) boxes = det->second;
+            m.detections_used = det != detections_.end();
+            m.detections_seq = d.detections_seq;
+        }
+        const auto kind_of = [this](const detect::Detection& x) {
+            if (settings_.non_rigid.count(x.class_name)) return detect::ClassKind::kNonRigid;
+            if (settings_.rigid.count(x.class_name)) return detect::ClassKind::kRigid;
+            return detect::ClassKind::kIgnored;
+        };
+        auto r = seg::segment_instances(seg.labels, seg.count, cv::Mat(), boxes, kind_of,
+                                        settings_.instance);
+        if (!r) {
+            log::error("seq=", d.seq, " ", r.status().message());
+            m.header.status = df_msg_FRAME_FAILED;
+        } else {
+            m.header.status = df_msg_FRAME_OK;
+            m.width = static_cast<uint16_t>(seg.labels.cols);
+            m.height = static_cast<uint16_t>(seg.labels.rows);
+            for (const seg::Instance& inst : r->instances) {
+                if (m.instance_count >= df_msg_MAX_INSTANCES) break;
+                df_msg_InstanceInfo& info = m.instances[m.instance_count++];
+                info.instance_id = static_cast<uint16_t>(inst.id);
+                info.class_id = inst.detection.class_id;
+                info.score = inst.detection.score;
+                info.kind = inst.kind == detect::ClassKind::kNonRigid ? df_msg_OBJECT_NON_RIGID
+                                                                      : df_msg_OBJECT_RIGID;
+                info.box_x = inst.detection.box.x;
+                info.box_y = inst.detection.box.y;
+                info.box_w = inst.detection.box.width;
+                info.box_h = inst.detection.box.height;
+                info.pixel_count = static_cast<uint32_t>(inst.pixels);
+            }
+            uint16_t* out = m.labels;
+            for (int y = 0; y < r->labels.rows; ++y) {
+                const uint16_t* row = r->labels.ptr<uint16_t>(y);
+                out = std::copy(row, row + r->labels.cols, out);
+            }
+        }
+    } else {
+        m.header.status =
+            d.segments == sync::Arrival::kSkipped ? df_msg_FRAME_SKIPPED : df_msg_FRAME_FAILED;
+    }
+    const uint32_t instances = m.instance_count;
+    const bool used = m.detections_used;
+    const df_msg_Header header = m.header;
+    if (Status s = objects_.write(std::move(*loan)); !s) log::warn("seq=", d.seq, " ", s.message());
+    ++published_;
+    if (!used) {
+        ++without_;
+    } else if (d.detections_seq == d.seq) {
+        ++with_own_;
+    } else {
+        ++with_reused_;
+    }
+    log::debug("seq=", d.seq, " ", instances, " instances (", d.why, ")");
+    df_msg_StageStatus st{};
+    st.header = header;
+    dds::set_name(st.stage, config_.stage());
+    st.timing_count = 1;
+    dds::set_name(st.timings[0].name, "fuse");
+    st.timings[0].ms = static_cast<float>(static_cast<double>(now_ns() - t0) * 1e-6);
+    (void)status_.write_copy(st);
+    // Payloads up to this frame are done; detections stay a little for reuse.
+    segments_.erase(segments_.begin(), segments_.upper_bound(d.seq));
+    while (!detections_.empty() && detections_.begin()->first + 16 < d.seq) {
+        detections_.erase(detections_.begin());
+    }
+}
+
+Status FusionNode::run() {
+    log::info("joining ", segments_in_.topic(), " and ", detections_in_.topic(), " (deadline ",
+              config_.detection_deadline_ms(), " ms)");
+    bool had_writers = false, started = false;
+    int64_t last_ns = now_ns();
+    while (!service::stop_requested()) {
+        const int64_t now = now_ns();
+        int64_t wait_ns = 100'000'000;
+        if (auto next = join_.next_deadline_ns()) wait_ns = std::clamp<int64_t>(*next - now, 0, wait_ns);
+        auto woke = waitset_.wait(wait_ns);
+        if (!woke) return woke.status();
+        DF_RETURN_IF_ERROR(take(now_ns()));
+        for (const sync::JoinDecision& d : join_.poll(now_ns())) {
+            started = true;
+            last_ns = now_ns();
+            publish(d);
+        }
+        const uint32_t writers = segments_in_.matched_writers();
+        if (writers > 0) had_writers = true;
+        const bool gone = had_writers && writers == 0 && join_.pending() == 0 && started;
+        const bool idle = started && config_.idle_exit_s() > 0 &&
+                          static_cast<double>(now_ns() - last_ns) * 1e-9 > config_.idle_exit_s();
+        if (gone || idle) {
+            log::info("stream ended: ", published_, " frames published (", with_own_,
+                      " with their own detections, ", with_reused_, " with reused ones, ",
+                      without_, " without)");
+            if (config_.exit_at_end()) return Status::ok();
+            had_writers = started = false;
+            published_ = with_own_ = with_reused_ = without_ = 0;
+        }
+    }
+    return Status::ok();
+}
+
+}  // namespace df::fusion_service

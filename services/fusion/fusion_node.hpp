@@ -1,0 +1,66 @@
+#pragma once
+/// The fusion service's adapter: joins <ns>/geometric_segments and <ns>/detections by sequence
+/// number (sync::FrameJoin: a detection deadline, reuse of recent boxes), fuses boxes and
+/// segments into instance masks (seg::segment_instances) and publishes <ns>/object_segments and
+/// <ns>/stage_status for every frame, stating whether detections were used and whose.
+#include <map>
+#include <memory>
+#include <set>
+#include <vector>
+
+#include "dds/participant.hpp"
+#include "dds/reader.hpp"
+#include "dds/waitset.hpp"
+#include "dds/writer.hpp"
+#include "df_msgs.h"
+#include "fusion.pb.h"
+#include "seg/instance_segmentation.hpp"
+#include "sync/frame_join.hpp"
+
+namespace df::fusion_service {
+
+struct FusionSettings {
+    sync::JoinConfig join;
+    seg::InstanceSegmentationConfig instance;
+    std::set<std::string> rigid, non_rigid;
+};
+
+/// The settings a service configuration asks for; an error names a bad value.
+Result<FusionSettings> settings_from(const config::FusionServiceConfig& config);
+
+class FusionNode {
+  public:
+    static Result<std::unique_ptr<FusionNode>> create(const config::FusionServiceConfig& config,
+                                                      const FusionSettings& settings,
+                                                      dds::Participant& participant);
+    /// Runs until stop is requested or (exit_at_end) the segment writers leave.
+    Status run();
+
+  private:
+    struct Segments {
+        df_msg_Header header;
+        cv::Mat labels;  // CV_32SC1
+        int count = 0;
+    };
+    FusionNode(const config::FusionServiceConfig& config, const FusionSettings& settings,
+               dds::Reader<df_msg_GeometricSegments> segments,
+               dds::Reader<df_msg_Detections> detections,
+               dds::Writer<df_msg_ObjectSegments> objects, dds::Writer<df_msg_StageStatus> status,
+               dds::WaitSet waitset);
+    Status take(int64_t now);
+    void publish(const sync::JoinDecision& d);
+
+    config::FusionServiceConfig config_;
+    FusionSettings settings_;
+    dds::Reader<df_msg_GeometricSegments> segments_in_;
+    dds::Reader<df_msg_Detections> detections_in_;
+    dds::Writer<df_msg_ObjectSegments> objects_;
+    dds::Writer<df_msg_StageStatus> status_;
+    dds::WaitSet waitset_;
+    sync::FrameJoin join_;
+    std::map<uint64_t, Segments> segments_;
+    std::map<uint64_t, std::vector<detect::Detection>> detections_;
+    uint64_t published_ = 0, with_own_ = 0, with_reused_ = 0, without_ = 0;
+};
+
+}  // namespace df::fusion_service

@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# Geometric segmentation, the SIMULATED detector and the fusion service behind capture (lockstep
+# on the fusion stage, shared memory): object_segments answers every frame with classes; with no
+# detector at all, the frames still come, marked as published without detections.
+source "$(dirname "$0")/lib.sh"
+roudi_running || fail "no RouDi: run through ctest (fixture roudi)"
+N=12
+"$BIN/df_make_sequence" --preset default --out "$TMP/seq" --frames 40 --no-models >/dev/null 2>&1 \
+  || fail "df_make_sequence failed"
+# Frames 20.. show the car, the person and the drum.
+mkdir -p "$TMP/cut"
+/usr/bin/python3 - "$TMP/seq" "$TMP/cut" $N <<'PY'
+import os, shutil, sys
+src, dst, n = sys.argv[1], sys.argv[2], int(sys.argv[3])
+for name in os.listdir(src):
+    p = os.path.join(src, name)
+    if os.path.isdir(p): shutil.copytree(p, os.path.join(dst, name))
+    else: shutil.copy(p, dst)
+lines = [l for l in open(os.path.join(src, "associations.txt")) if not l.startswith("#")]
+open(os.path.join(dst, "associations.txt"), "w").writelines(lines[20:20 + n])
+PY
+
+run_pipeline() {  # name, with_detector
+  local name=$1
+  "$BIN/df_tap" echo "$NS/object_segments" -n $N --items 3 >"$TMP/$name.echo" 2>"$TMP/$name.echo.err" &
+  local echo_pid=$!; pids+=($echo_pid)
+  "$BIN/df_geoseg" --set "dds { ns: \"$NS\" }" >"$TMP/$name.geoseg.log" 2>&1 &
+  local g=$!; pids+=($g)
+  local d=""
+  if [ "$2" = yes ]; then
+    "$BIN/df_detector" --set "dds { ns: \"$NS\" }" --set 'model: "simulated"' \
+      --set "sim_sequence: \"$TMP/cut\"" >"$TMP/$name.detector.log" 2>&1 &
+    d=$!; pids+=($d)
+  fi
+  "$BIN/df_fusion" --set "dds { ns: \"$NS\" }" >"$TMP/$name.fusion.log" 2>&1 &
+  local f=$!; pids+=($f)
+  "$BIN/df_capture" "$TMP/cut" --set "dds { ns: \"$NS\" }" --set 'playback: LOCKSTEP' \
+    --set 'lockstep_stages: "fusion"' --set 'start_wait_s: 20' >"$TMP/$name.capture.log" 2>&1 \
+    || fail "$name: capture failed: $(tail "$TMP/$name.capture.log")"
+  grep -q "0 lockstep timeouts" "$TMP/$name.capture.log" || fail "$name: lockstep timeouts: $(grep done: "$TMP/$name.capture.log")"
+  wait $g || fail "$name: geoseg failed: $(tail -3 "$TMP/$name.geoseg.log")"
+  [ -n "$d" ] && { wait $d || fail "$name: detector failed: $(tail -3 "$TMP/$name.detector.log")"; }
+  wait $f || fail "$name: fusion failed: $(tail -3 "$TMP/$name.fusion.log")"
+  wait $echo_pid || fail "$name: echo failed: $(cat "$TMP/$name.echo.err")"
+}
+
+check() {  # name, expect_detections (yes/no)
+  /usr/bin/python3 - "$TMP/$1.echo" $N "$2" <<'PY'
+import re, sys
+text, n, want = open(sys.argv[1]).read(), int(sys.argv[2]), sys.argv[3] == "yes"
+msgs = text.split("header:")[1:]
+assert len(msgs) == n, f"{len(msgs)} messages"
+seqs = sorted(int(re.search(r"\bseq:\s*(\d+)", m).group(1)) for m in msgs)
+assert seqs == list(range(n)), seqs
+used = [re.search(r"detections_used:\s*(\w+)", m).group(1) for m in msgs]
+counts = [int(re.search(r"instance_count:\s*(\d+)", m).group(1)) for m in msgs]
+classes = set(int(c) for c in re.findall(r"class_id:\s*(-?\d+)", text))
+if want:
+    assert used.count("true") >= n - 1, used
+    assert sum(c > 0 for c in counts) >= n // 2, counts
+    assert 2 in classes or 0 in classes, classes   # car or person
+else:
+    assert all(u == "false" for u in used), used
+    assert all(c == 0 for c in counts), counts
+print(f"ok: {n} frames, detections used {used.count('true')}, instances per frame {counts}, classes {sorted(classes)}")
+PY
+}
+run_pipeline full yes
+check full yes || fail "object_segments with the detector: $(head -c 1500 "$TMP/full.echo")"
+pass "object_segments for every frame with classes (simulated detector)"
+run_pipeline nodet no
+check nodet no || fail "object_segments without a detector: $(head -c 1500 "$TMP/nodet.echo")"
+grep -q "0 with their own detections" "$TMP/nodet.fusion.log" || fail "fusion: $(tail -2 "$TMP/nodet.fusion.log")"
+pass "without a detector every frame still comes, marked as published without detections"
