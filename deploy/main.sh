@@ -12,13 +12,16 @@ export DF_DATA="${DF_DATA:-$root/build/data/default}"
 run_dir="$DF_OUT/run"
 slam_out="$DF_OUT/slam"
 rm -rf "$slam_out"
-deploy/dfsup --run-dir "$run_dir" up deploy/pipelines/slam_default.pbtxt
+deploy/dfsup --run-dir "$run_dir" up deploy/pipelines/default.pbtxt
 trap 'deploy/dfsup --run-dir "$run_dir" down >/dev/null 2>&1 || true' EXIT
 status=0
 deploy/dfsup --run-dir "$run_dir" wait slam --timeout 900 || status=$?
+deploy/dfsup --run-dir "$run_dir" wait fusion --timeout 60 || true
 echo
-echo "== SLAM over $(basename "$DF_DATA") (capture -> slam, lockstep, shared memory) =="
+echo "== $(basename "$DF_DATA"): capture -> slam, geoseg, detector (YOLOv5s), fusion; shared memory =="
 grep -E "done:|bad frame" "$run_dir/logs/capture.log" | sed 's/^[^]]*\] //' || true
+grep -E "stream ended" "$run_dir/logs/geoseg.log" "$run_dir/logs/detector.log" \
+  "$run_dir/logs/fusion.log" | sed 's/^.*logs\///; s/\.log:[^]]*\] /: /' || true
 grep -E "stream ended|tracking lost|recovered" "$run_dir/logs/slam.log" | sed 's/^[^]]*\] //' || true
 if [ ! -s "$slam_out/trajectory.txt" ]; then
   echo "no trajectory was written; see $run_dir/logs/slam.log" >&2

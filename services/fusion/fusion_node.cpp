@@ -205,6 +205,7 @@ void FusionNode::publish(const sync::JoinDecision& d) {
                 info.box_w = inst.detection.box.width;
                 info.box_h = inst.detection.box.height;
                 info.pixel_count = static_cast<uint32_t>(inst.pixels);
+                ++instances_by_class_[inst.detection.class_name];
             }
             uint16_t* out = m.labels;
             for (int y = 0; y < r->labels.rows; ++y) {
@@ -266,12 +267,17 @@ Status FusionNode::run() {
         const bool idle = started && config_.idle_exit_s() > 0 &&
                           static_cast<double>(now_ns() - last_ns) * 1e-9 > config_.idle_exit_s();
         if (gone || idle) {
+            std::string classes;
+            for (const auto& [name, n] : instances_by_class_) {
+                classes += (classes.empty() ? "" : ", ") + name + " " + std::to_string(n);
+            }
             log::info("stream ended: ", published_, " frames published (", with_own_,
                       " with their own detections, ", with_reused_, " with reused ones, ",
-                      without_, " without)");
+                      without_, " without); instances: ", classes.empty() ? "none" : classes);
             if (config_.exit_at_end()) return Status::ok();
             had_writers = started = false;
             published_ = with_own_ = with_reused_ = without_ = 0;
+            instances_by_class_.clear();
         }
     }
     return Status::ok();

@@ -61,6 +61,7 @@ class FusionNode {
     std::map<uint64_t, Segments> segments_;
     std::map<uint64_t, std::vector<detect::Detection>> detections_;
     uint64_t published_ = 0, with_own_ = 0, with_reused_ = 0, without_ = 0;
+    std::map<std::string, uint64_t> instances_by_class_;  // over the stream, for the end log
 };
 
 }  // namespace df::fusion_service
