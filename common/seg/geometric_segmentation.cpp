@@ -16,6 +16,14 @@ inline bool valid_normal(const float* n) { return n[0] != 0.f || n[1] != 0.f || 
 cv::Mat edge_map(const cv::Mat& vertex, const cv::Mat& normal,
                  const GeometricSegmentationConfig& c) {
     const int w = vertex.cols, h = vertex.rows;
+    // Validity once per pixel (each is looked at by 9 pixels).
+    cv::Mat ok(vertex.size(), CV_8UC1);
+    for (int y = 0; y < h; ++y) {
+        const float* v = vertex.ptr<float>(y);
+        const float* n = normal.ptr<float>(y);
+        uint8_t* o = ok.ptr<uint8_t>(y);
+        for (int x = 0; x < w; ++x) o[x] = valid_vertex(v + 3 * x) && valid_normal(n + 3 * x);
+    }
     cv::Mat edges(vertex.size(), CV_8UC1, cv::Scalar(255));
     const int dx[8] = {-1, 0, 1, -1, 1, -1, 0, 1};
     const int dy[8] = {-1, -1, -1, 0, 0, 1, 1, 1};
@@ -24,30 +32,32 @@ cv::Mat edge_map(const cv::Mat& vertex, const cv::Mat& normal,
                                 vertex.ptr<float>(y + 1)};
         const float* nrow[3] = {normal.ptr<float>(y - 1), normal.ptr<float>(y),
                                 normal.ptr<float>(y + 1)};
+        const uint8_t* okrow[3] = {ok.ptr<uint8_t>(y - 1), ok.ptr<uint8_t>(y),
+                                   ok.ptr<uint8_t>(y + 1)};
         uint8_t* out = edges.ptr<uint8_t>(y);
         for (int x = 1; x < w - 1; ++x) {
+            if (!okrow[1][x]) continue;  // stays 255
+            // A hole next to the pixel is a boundary: sensors lose depth at silhouettes
+            // (shadows, grazing surfaces); re-absorption gives edge pixels back to their
+            // segment where depth is continuous.
+            if (!(okrow[0][x - 1] & okrow[0][x] & okrow[0][x + 1] & okrow[1][x - 1] &
+                  okrow[1][x + 1] & okrow[2][x - 1] & okrow[2][x] & okrow[2][x + 1])) {
+                continue;
+            }
             const float* v = vrow[1] + 3 * x;
             const float* n = nrow[1] + 3 * x;
-            if (!valid_vertex(v) || !valid_normal(n)) continue;  // stays 255
             const float z = v[2];
             const float max_d = c.max_distance_m + c.max_distance_per_m2 * z * z;
             const float max_concavity = c.max_concavity + c.max_concavity_per_m2 * z * z;
             bool edge = false;
             for (int k = 0; k < 8 && !edge; ++k) {
                 const float* vk = vrow[1 + dy[k]] + 3 * (x + dx[k]);
-                const float* nk = nrow[1 + dy[k]] + 3 * (x + dx[k]);
-                // A hole next to the pixel is a boundary: sensors lose depth at silhouettes
-                // (shadows, grazing surfaces); re-absorption gives edge pixels back to their
-                // segment where depth is continuous.
-                if (!valid_vertex(vk) || !valid_normal(nk)) {
-                    edge = true;
-                    break;
-                }
                 const float d = (vk[0] - v[0]) * n[0] + (vk[1] - v[1]) * n[1] +
                                 (vk[2] - v[2]) * n[2];
                 if (std::fabs(d) > max_d) {
                     edge = true;
                 } else if (d >= 0.f) {
+                    const float* nk = nrow[1 + dy[k]] + 3 * (x + dx[k]);
                     const float concavity = 1.f - (nk[0] * n[0] + nk[1] * n[1] + nk[2] * n[2]);
                     edge = concavity > max_concavity;
                 }
@@ -72,34 +82,52 @@ int drop_small(cv::Mat& labels, const cv::Mat& stats, int components, int min_pi
     return count;
 }
 
-// One pass: each unlabelled pixel with valid depth takes the label of the 4-neighbour (labelled
-// before this pass) whose depth is nearest, if within the tolerance.
-void absorb_once(const cv::Mat& vertex, cv::Mat& labels, float max_dz) {
-    const cv::Mat before = labels.clone();
+// Re-absorption: in each pass every still unlabelled pixel with valid depth takes the label of
+// the 4-neighbour (labelled before the pass) whose depth is nearest, within the tolerance. Only
+// the unlabelled pixels are visited.
+void absorb(const cv::Mat& vertex, cv::Mat& labels, float max_dz, int passes) {
     const int w = labels.cols, h = labels.rows;
+    std::vector<int> todo;
     for (int y = 0; y < h; ++y) {
-        const int32_t* lb = before.ptr<int32_t>(y);
-        int32_t* l = labels.ptr<int32_t>(y);
+        const int32_t* l = labels.ptr<int32_t>(y);
         const float* v = vertex.ptr<float>(y);
         for (int x = 0; x < w; ++x) {
-            if (lb[x] != 0 || !valid_vertex(v + 3 * x)) continue;
-            const float z = v[3 * x + 2];
+            if (l[x] == 0 && valid_vertex(v + 3 * x)) todo.push_back(y * w + x);
+        }
+    }
+    auto* lab = reinterpret_cast<int32_t*>(labels.data);  // continuous (created by OpenCV)
+    const auto* vert = reinterpret_cast<const float*>(vertex.data);
+    const size_t vstride = vertex.step[0] / sizeof(float);
+    std::vector<std::pair<int, int32_t>> updates;
+    for (int pass = 0; pass < passes && !todo.empty(); ++pass) {
+        updates.clear();
+        std::vector<int> still;
+        for (int i : todo) {
+            const int x = i % w, y = i / w;
+            const float z = vert[static_cast<size_t>(y) * vstride + 3 * x + 2];
             float best = max_dz;
             int32_t label = 0;
             const int nx[4] = {x - 1, x + 1, x, x};
             const int ny[4] = {y, y, y - 1, y + 1};
             for (int k = 0; k < 4; ++k) {
                 if (nx[k] < 0 || nx[k] >= w || ny[k] < 0 || ny[k] >= h) continue;
-                const int32_t nl = before.ptr<int32_t>(ny[k])[nx[k]];
+                const int32_t nl = lab[ny[k] * w + nx[k]];
                 if (nl == 0) continue;
-                const float dz = std::fabs(vertex.ptr<float>(ny[k])[3 * nx[k] + 2] - z);
+                const float dz =
+                    std::fabs(vert[static_cast<size_t>(ny[k]) * vstride + 3 * nx[k] + 2] - z);
                 if (dz < best) {
                     best = dz;
                     label = nl;
                 }
             }
-            l[x] = label;
+            if (label != 0) {
+                updates.emplace_back(i, label);
+            } else {
+                still.push_back(i);
+            }
         }
+        for (const auto& [i, label] : updates) lab[i] = label;  // after the pass: no bias
+        todo.swap(still);
     }
 }
 
@@ -146,9 +174,7 @@ Result<GeometricSegmentation> segment_geometry(const cv::Mat& vertex, const cv::
     const int components = cv::connectedComponentsWithStats(out.edges == 0, out.labels, stats,
                                                             centroids, 4, CV_32S);
     out.count = drop_small(out.labels, stats, components, config.min_segment_pixels);
-    for (int i = 0; i < config.absorb_iterations; ++i) {
-        absorb_once(vertex, out.labels, config.absorb_max_depth_difference_m);
-    }
+    absorb(vertex, out.labels, config.absorb_max_depth_difference_m, config.absorb_iterations);
     return out;
 }
 
