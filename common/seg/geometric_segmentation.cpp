@@ -25,8 +25,9 @@ cv::Mat edge_map(const cv::Mat& vertex, const cv::Mat& normal,
         for (int x = 0; x < w; ++x) o[x] = valid_vertex(v + 3 * x) && valid_normal(n + 3 * x);
     }
     cv::Mat edges(vertex.size(), CV_8UC1, cv::Scalar(255));
-    const int dx[8] = {-1, 0, 1, -1, 1, -1, 0, 1};
-    const int dy[8] = {-1, -1, -1, 0, 0, 1, 1, 1};
+    // The 4 direct neighbours first: most edges are found there, and the loop stops early.
+    const int dx[8] = {-1, 1, 0, 0, -1, 1, -1, 1};
+    const int dy[8] = {0, 0, -1, 1, -1, -1, 1, 1};
     for (int y = 1; y < h - 1; ++y) {
         const float* vrow[3] = {vertex.ptr<float>(y - 1), vertex.ptr<float>(y),
                                 vertex.ptr<float>(y + 1)};
@@ -50,7 +51,7 @@ cv::Mat edge_map(const cv::Mat& vertex, const cv::Mat& normal,
             const float max_d = c.max_distance_m + c.max_distance_per_m2 * z * z;
             const float max_concavity = c.max_concavity + c.max_concavity_per_m2 * z * z;
             bool edge = false;
-            for (int k = 0; k < 8 && !edge; ++k) {
+            for (int k = 0; k < c.neighbours && !edge; ++k) {
                 const float* vk = vrow[1 + dy[k]] + 3 * (x + dx[k]);
                 const float d = (vk[0] - v[0]) * n[0] + (vk[1] - v[1]) * n[1] +
                                 (vk[2] - v[2]) * n[2];
@@ -148,6 +149,8 @@ std::string validate(const GeometricSegmentationConfig& c) {
     } else if (!(c.absorb_max_depth_difference_m >= 0.f)) {
         msg << "absorb_max_depth_difference_m must be >= 0, got "
             << c.absorb_max_depth_difference_m;
+    } else if (c.neighbours != 4 && c.neighbours != 8) {
+        msg << "neighbours must be 4 or 8, got " << c.neighbours;
     } else if (c.absorb_iterations < 0 || c.absorb_iterations > 16) {
         msg << "absorb_iterations must be in 0..16, got " << c.absorb_iterations;
     }

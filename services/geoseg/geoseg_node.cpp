@@ -36,6 +36,7 @@ Status apply(const config::GeosegParams& p, seg::GeometricSegmentationConfig* se
     if (p.has_absorb_max_depth_difference_m())
         seg->absorb_max_depth_difference_m = p.absorb_max_depth_difference_m();
     if (p.has_absorb_iterations()) seg->absorb_iterations = p.absorb_iterations();
+    if (p.has_neighbours()) seg->neighbours = p.neighbours();
     if (p.has_max_depth_m()) preprocess->max_depth_m = p.max_depth_m();
     if (p.has_normal_baseline_px()) preprocess->normal_baseline_px = p.normal_baseline_px();
     preprocess->pyramid_levels = 1;  // only the full-resolution level is segmented

@@ -139,7 +139,7 @@ TEST(GeometricSegmentation, CoversGeneratedObjectsWithoutStraddlingTheirSilhouet
     std::printf("mean best-segment IoU over %d object views: %.3f; segments straddling an "
                 "object silhouette: %d of %d\n",
                 objects, mean, straddling, object_segments);
-    EXPECT_GT(mean, 0.5);  // measured 0.565 (docs/segmentation.md)
+    EXPECT_GT(mean, 0.5);  // measured 0.590 (docs/segmentation.md)
     EXPECT_LE(straddling, object_segments / 10);
 }
 

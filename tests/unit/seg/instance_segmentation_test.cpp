@@ -137,7 +137,7 @@ TEST(InstanceSegmentation, FusedMasksBeatBoxesOnGeneratedSequences) {
     ASSERT_GE(scored, 6);
     std::printf("mean IoU with ground truth over %d known-object views: fused %.3f, box %.3f\n",
                 scored, fused_sum / scored, box_sum / scored);
-    EXPECT_GT(fused_sum / scored, 0.65);  // measured 0.712 against 0.562 for boxes
+    EXPECT_GT(fused_sum / scored, 0.65);  // measured 0.725 against 0.562 for boxes
     EXPECT_GT(fused_sum / scored, box_sum / scored + 0.1);
 }
 
