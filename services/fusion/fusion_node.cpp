@@ -256,7 +256,12 @@ Status FusionNode::run() {
         auto woke = waitset_.wait(wait_ns);
         if (!woke) return woke.status();
         DF_RETURN_IF_ERROR(take(now_ns()));
-        for (const sync::JoinDecision& d : join_.poll(now_ns())) {
+        // With no detector on the topic there is nothing to wait for: release at once (as if
+        // the deadline had passed) instead of delaying every frame by it.
+        const int64_t poll_at = detections_in_.matched_writers() == 0
+                                    ? now_ns() + settings_.join.detection_deadline_ns
+                                    : now_ns();
+        for (const sync::JoinDecision& d : join_.poll(poll_at)) {
             started = true;
             last_ns = now_ns();
             publish(d);
