@@ -1,7 +1,11 @@
 #include "capture_node.hpp"
 
 #include <chrono>
+#include <cstdio>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <thread>
+#include <vector>
 
 #include "core/log.hpp"
 #include "dds/msg_convert.hpp"
@@ -36,9 +40,44 @@ Result<std::unique_ptr<CaptureNode>> CaptureNode::create(const config::CaptureCo
     auto waitset = dds::WaitSet::create(participant);
     if (!waitset) return waitset.status();
     DF_RETURN_IF_ERROR(waitset->attach_reader(acks->get()));
-    return std::unique_ptr<CaptureNode>(new CaptureNode(config, std::move(source),
-                                                        std::move(*frames), std::move(*status),
-                                                        std::move(*acks), std::move(*waitset)));
+    auto node = std::unique_ptr<CaptureNode>(new CaptureNode(config, std::move(source),
+                                                             std::move(*frames), std::move(*status),
+                                                             std::move(*acks), std::move(*waitset)));
+    if (config.color_small_width() > 0) {
+        auto small = dds::Writer<df_msg_CompressedImage>::create(
+            participant, dds::topic_name(ns, dds::topics::kColorSmall));
+        if (!small) return small.status();
+        node->small_.emplace(std::move(*small));
+    }
+    return node;
+}
+
+void CaptureNode::publish_small(const io::RgbdImage& image, const df_msg_Header& header) {
+    const int width = static_cast<int>(std::min<uint32_t>(config_.color_small_width(),
+                                                          static_cast<uint32_t>(image.rgb.cols)));
+    const int height = std::max(1, image.rgb.rows * width / std::max(1, image.rgb.cols));
+    cv::Mat small, bgr;
+    cv::resize(image.rgb, small, cv::Size(width, height), 0, 0, cv::INTER_AREA);
+    cv::cvtColor(small, bgr, cv::COLOR_RGB2BGR);  // imencode takes B,G,R
+    std::vector<uint8_t> jpeg;
+    const std::vector<int> params = {cv::IMWRITE_JPEG_QUALITY,
+                                     static_cast<int>(config_.color_small_jpeg_quality())};
+    if (!cv::imencode(".jpg", bgr, jpeg, params) || jpeg.size() > df_msg_MAX_RGB_BYTES) {
+        log::warn("seq=", header.seq, " color_small: JPEG encoding failed");
+        return;
+    }
+    df_msg_CompressedImage m{};
+    m.header = header;
+    m.width = static_cast<uint16_t>(width);
+    m.height = static_cast<uint16_t>(height);
+    m.source_width = static_cast<uint16_t>(image.rgb.cols);
+    m.source_height = static_cast<uint16_t>(image.rgb.rows);
+    std::snprintf(m.format, sizeof m.format, "jpeg");
+    m.data._buffer = jpeg.data();
+    m.data._length = static_cast<uint32_t>(jpeg.size());
+    m.data._maximum = static_cast<uint32_t>(jpeg.size());
+    m.data._release = false;
+    if (Status s = small_->write_copy(m); !s) log::warn("seq=", header.seq, " color_small: ", s.message());
 }
 
 CaptureNode::CaptureNode(const config::CaptureConfig& config,
@@ -132,6 +171,7 @@ Status CaptureNode::publish(const io::RgbdImage& image, double read_ms) {
     if (!loan->shared_memory() && frames_.loans_shared_memory()) ++stats_.loan_fallbacks;
     dds::fill_frame(image, header, loan->get());
     DF_RETURN_IF_ERROR(frames_.write(std::move(*loan)));
+    if (small_) publish_small(image, header);
     df_msg_StageStatus st{};
     st.header = header;
     dds::set_name(st.stage, "capture");

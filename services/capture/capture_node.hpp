@@ -3,6 +3,7 @@
 /// paced in real time, flat out, or in lockstep with the stages that must see every frame.
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <memory>
 #include <set>
 #include <string>
@@ -40,6 +41,8 @@ class CaptureNode {
                 dds::Reader<df_msg_StageStatus> acks, dds::WaitSet waitset);
     Status wait_for_subscribers();
     Status publish(const io::RgbdImage& image, double read_ms);
+    /// The reduced JPEG colour image of the frame on <ns>/color_small.
+    void publish_small(const io::RgbdImage& image, const df_msg_Header& header);
     /// Lockstep: waits until every required stage answered frame seq (or the timeout).
     void wait_for_answers(uint64_t seq);
     void collect_answers();
@@ -49,6 +52,7 @@ class CaptureNode {
     std::unique_ptr<io::FrameSource> source_;
     dds::Writer<df_msg_RgbdFrame> frames_;
     dds::Writer<df_msg_StageStatus> status_;
+    std::optional<dds::Writer<df_msg_CompressedImage>> small_;  // color_small_width > 0
     dds::Reader<df_msg_StageStatus> acks_;
     dds::WaitSet waitset_;
     std::set<std::string> required_;

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <thread>
 
 #include "core/log.hpp"
@@ -54,7 +55,14 @@ class SimulatedSource : public BoxSource {
         if (config_.latency_ms > 0) {
             std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(config_.latency_ms));
         }
-        return sim::simulate_detections(instance, classes_, static_cast<int>(seq), config_);
+        auto boxes = sim::simulate_detections(instance, classes_, static_cast<int>(seq), config_);
+        // In the pixels of the image given (the reduced colour image on color_small).
+        const float sx = static_cast<float>(image.rgb.cols) / static_cast<float>(instance.cols);
+        const float sy = static_cast<float>(image.rgb.rows) / static_cast<float>(instance.rows);
+        for (detect::Detection& d : boxes) {
+            d.box = cv::Rect2f(d.box.x * sx, d.box.y * sy, d.box.width * sx, d.box.height * sy);
+        }
+        return boxes;
     }
     std::string describe() const override {
         return "SIMULATED detector on the ground truth of " + folder_;
@@ -119,30 +127,48 @@ Result<std::unique_ptr<DetectorNode>> DetectorNode::create(
     const config::DetectorServiceConfig& config, std::unique_ptr<BoxSource> source,
     dds::Participant& participant) {
     const std::string& ns = config.dds().ns();
-    auto frames = dds::Reader<df_msg_RgbdFrame>::create(
-        participant, dds::topic_name(ns, dds::topics::kFrames));
-    if (!frames) return frames.status();
+    if (config.input() != "frames" && config.input() != "color_small") {
+        return error(StatusCode::kInvalidArgument,
+                     "input must be \"frames\" or \"color_small\", got \"" + config.input() + "\"");
+    }
+    auto waitset = dds::WaitSet::create(participant);
+    if (!waitset) return waitset.status();
+    std::optional<dds::Reader<df_msg_RgbdFrame>> frames;
+    std::optional<dds::Reader<df_msg_CompressedImage>> small;
+    if (config.input() == "frames") {
+        auto r = dds::Reader<df_msg_RgbdFrame>::create(participant,
+                                                       dds::topic_name(ns, dds::topics::kFrames));
+        if (!r) return r.status();
+        DF_RETURN_IF_ERROR(waitset->attach_reader(r->get()));
+        frames.emplace(std::move(*r));
+    } else {
+        auto r = dds::Reader<df_msg_CompressedImage>::create(
+            participant, dds::topic_name(ns, dds::topics::kColorSmall));
+        if (!r) return r.status();
+        DF_RETURN_IF_ERROR(waitset->attach_reader(r->get()));
+        small.emplace(std::move(*r));
+    }
     auto detections = dds::Writer<df_msg_Detections>::create(
         participant, dds::topic_name(ns, dds::topics::kDetections));
     if (!detections) return detections.status();
     auto status = dds::Writer<df_msg_StageStatus>::create(
         participant, dds::topic_name(ns, dds::topics::kStageStatus));
     if (!status) return status.status();
-    auto waitset = dds::WaitSet::create(participant);
-    if (!waitset) return waitset.status();
-    DF_RETURN_IF_ERROR(waitset->attach_reader(frames->get()));
     return std::unique_ptr<DetectorNode>(new DetectorNode(
-        config, std::move(source), std::move(*frames), std::move(*detections), std::move(*status),
-        std::move(*waitset)));
+        config, std::move(source), std::move(frames), std::move(small), std::move(*detections),
+        std::move(*status), std::move(*waitset)));
 }
 
 DetectorNode::DetectorNode(const config::DetectorServiceConfig& config,
-                           std::unique_ptr<BoxSource> source, dds::Reader<df_msg_RgbdFrame> frames,
+                           std::unique_ptr<BoxSource> source,
+                           std::optional<dds::Reader<df_msg_RgbdFrame>> frames,
+                           std::optional<dds::Reader<df_msg_CompressedImage>> small,
                            dds::Writer<df_msg_Detections> detections,
                            dds::Writer<df_msg_StageStatus> status, dds::WaitSet waitset)
     : config_(config),
       source_(std::move(source)),
       frames_(std::move(frames)),
+      small_(std::move(small)),
       detections_(std::move(detections)),
       status_(std::move(status)),
       waitset_(std::move(waitset)) {}
@@ -177,57 +203,95 @@ void DetectorNode::answer(const df_msg_Header& header, df_msg_FrameStatus status
     (void)status_.write_copy(st);
 }
 
-void DetectorNode::handle(const io::RgbdImage& image, const df_msg_Header& header) {
+void DetectorNode::handle(const Pending& p) {
+    const df_msg_Header& header = p.header;
     const uint32_t nth = std::max<uint32_t>(1, config_.every_nth());
     if (header.seq % nth != 0) {
         ++skipped_;
-        answer(header, df_msg_FRAME_SKIPPED, {}, image.rgb.cols, image.rgb.rows, 0);
+        answer(header, df_msg_FRAME_SKIPPED, {}, p.source_width, p.source_height, 0);
+        return;
+    }
+    if (p.image.rgb.empty()) {
+        ++failed_;
+        log::error("seq=", header.seq, " undecodable colour image");
+        answer(header, df_msg_FRAME_FAILED, {}, p.source_width, p.source_height, 0);
         return;
     }
     const int64_t t0 = now_ns();
-    auto boxes = source_->detect(image, header.seq);
+    auto boxes = source_->detect(p.image, header.seq);
     const double ms = static_cast<double>(now_ns() - t0) * 1e-6;
     if (!boxes) {
         ++failed_;
         log::error("seq=", header.seq, " ", boxes.status().message());
-        answer(header, df_msg_FRAME_FAILED, {}, image.rgb.cols, image.rgb.rows, ms);
+        answer(header, df_msg_FRAME_FAILED, {}, p.source_width, p.source_height, ms);
         return;
     }
+    // Back to the pixels of the full frame.
+    const float sx = static_cast<float>(p.source_width) / static_cast<float>(p.image.rgb.cols);
+    const float sy = static_cast<float>(p.source_height) / static_cast<float>(p.image.rgb.rows);
+    for (detect::Detection& d : *boxes) {
+        d.box = cv::Rect2f(d.box.x * sx, d.box.y * sy, d.box.width * sx, d.box.height * sy);
+    }
     ++detected_;
-    answer(header, df_msg_FRAME_OK, *boxes, image.rgb.cols, image.rgb.rows, ms);
+    answer(header, df_msg_FRAME_OK, *boxes, p.source_width, p.source_height, ms);
+}
+
+Status DetectorNode::take(std::vector<Pending>* pending) {
+    if (frames_) {
+        auto taken = frames_->take(
+            [&](const df_msg_RgbdFrame& f, const dds_sample_info_t& info) {
+                if (!info.valid_data) return;
+                Pending p{dds::to_image(f), f.header, 0, 0};
+                p.source_width = p.image.rgb.cols;
+                p.source_height = p.image.rgb.rows;
+                pending->push_back(std::move(p));
+            },
+            16);
+        return taken ? Status::ok() : taken.status();
+    }
+    auto taken = small_->take(
+        [&](const df_msg_CompressedImage& m, const dds_sample_info_t& info) {
+            if (!info.valid_data) return;
+            Pending p;
+            p.header = m.header;
+            p.source_width = m.source_width;
+            p.source_height = m.source_height;
+            p.image.sensor_ns = static_cast<int64_t>(m.header.sensor_ns);
+            const cv::Mat bytes(1, static_cast<int>(m.data._length), CV_8UC1, m.data._buffer);
+            const cv::Mat bgr = cv::imdecode(bytes, cv::IMREAD_COLOR);
+            if (!bgr.empty()) cv::cvtColor(bgr, p.image.rgb, cv::COLOR_BGR2RGB);
+            pending->push_back(std::move(p));
+        },
+        16);
+    return taken ? Status::ok() : taken.status();
+}
+
+uint32_t DetectorNode::matched_writers() const {
+    return frames_ ? frames_->matched_writers() : small_->matched_writers();
 }
 
 Status DetectorNode::run() {
-    log::info(source_->describe(), "; waiting for frames on ", frames_.topic());
+    log::info(source_->describe(), "; waiting for frames on ",
+              frames_ ? frames_->topic() : small_->topic());
     bool had_writers = false, started = false;
     int64_t last_ns = now_ns();
-    struct Pending {
-        io::RgbdImage image;
-        df_msg_Header header;
-    };
     while (!service::stop_requested()) {
         auto woke = waitset_.wait(DDS_MSECS(100));
         if (!woke) return woke.status();
         std::vector<Pending> pending;
-        auto taken = frames_.take(
-            [&](const df_msg_RgbdFrame& f, const dds_sample_info_t& info) {
-                if (!info.valid_data) return;
-                pending.push_back({dds::to_image(f), f.header});
-            },
-            16);
-        if (!taken) return taken.status();
+        DF_RETURN_IF_ERROR(take(&pending));
         for (size_t i = 0; i < pending.size(); ++i) {
             started = true;
             last_ns = now_ns();
             if (i + 1 < pending.size()) {  // stay current: answer the older ones skipped
                 ++skipped_;
-                answer(pending[i].header, df_msg_FRAME_SKIPPED, {}, pending[i].image.rgb.cols,
-                       pending[i].image.rgb.rows, 0);
+                answer(pending[i].header, df_msg_FRAME_SKIPPED, {}, pending[i].source_width,
+                       pending[i].source_height, 0);
             } else {
-                handle(pending[i].image, pending[i].header);
+                handle(pending[i]);
             }
         }
-        const uint32_t writers = frames_.matched_writers();
+        const uint32_t writers = matched_writers();
         if (writers > 0) had_writers = true;
         const bool gone = started && had_writers && writers == 0 && pending.empty();
         const bool idle = started && config_.idle_exit_s() > 0 &&

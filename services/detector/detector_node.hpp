@@ -4,6 +4,7 @@
 /// out. The model is YOLO through df_detect, or the SIMULATED detector reading a generated
 /// sequence's ground truth.
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "dds/participant.hpp"
@@ -38,16 +39,28 @@ class DetectorNode {
     Status run();
 
   private:
+    /// One frame to answer: its image (full, or the reduced colour image) and the size of the
+    /// full frame the boxes are published in.
+    struct Pending {
+        io::RgbdImage image;
+        df_msg_Header header;
+        int source_width = 0, source_height = 0;
+    };
     DetectorNode(const config::DetectorServiceConfig& config, std::unique_ptr<BoxSource> source,
-                 dds::Reader<df_msg_RgbdFrame> frames, dds::Writer<df_msg_Detections> detections,
+                 std::optional<dds::Reader<df_msg_RgbdFrame>> frames,
+                 std::optional<dds::Reader<df_msg_CompressedImage>> small,
+                 dds::Writer<df_msg_Detections> detections,
                  dds::Writer<df_msg_StageStatus> status, dds::WaitSet waitset);
-    void handle(const io::RgbdImage& image, const df_msg_Header& header);
+    Status take(std::vector<Pending>* pending);
+    uint32_t matched_writers() const;
+    void handle(const Pending& p);
     void answer(const df_msg_Header& header, df_msg_FrameStatus status,
                 const std::vector<detect::Detection>& boxes, int width, int height, double ms);
 
     config::DetectorServiceConfig config_;
     std::unique_ptr<BoxSource> source_;
-    dds::Reader<df_msg_RgbdFrame> frames_;
+    std::optional<dds::Reader<df_msg_RgbdFrame>> frames_;
+    std::optional<dds::Reader<df_msg_CompressedImage>> small_;
     dds::Writer<df_msg_Detections> detections_;
     dds::Writer<df_msg_StageStatus> status_;
     dds::WaitSet waitset_;

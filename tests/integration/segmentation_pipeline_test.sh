@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Geometric segmentation, the SIMULATED detector and the fusion service behind capture (lockstep
-# on the fusion stage, shared memory): object_segments answers every frame with classes; with no
-# detector at all, the frames still come, marked as published without detections.
+# on the fusion stage, shared memory): object_segments answers every frame with classes, with the
+# detector reading full frames or the reduced JPEG colour topic (color_small, for a detector on
+# another host); with no detector at all, the frames still come, marked as without detections.
 source "$(dirname "$0")/lib.sh"
 roudi_running || fail "no RouDi: run through ctest (fixture roudi)"
 N=12
@@ -20,8 +21,8 @@ lines = [l for l in open(os.path.join(src, "associations.txt")) if not l.startsw
 open(os.path.join(dst, "associations.txt"), "w").writelines(lines[20:20 + n])
 PY
 
-run_pipeline() {  # name, with_detector
-  local name=$1
+run_pipeline() {  # name, with_detector, [detector input: frames | color_small]
+  local name=$1 input=${3:-frames}
   "$BIN/df_tap" echo "$NS/object_segments" -n $N --items 3 >"$TMP/$name.echo" 2>"$TMP/$name.echo.err" &
   local echo_pid=$!; pids+=($echo_pid)
   "$BIN/df_geoseg" --set "dds { ns: \"$NS\" }" >"$TMP/$name.geoseg.log" 2>&1 &
@@ -29,13 +30,14 @@ run_pipeline() {  # name, with_detector
   local d=""
   if [ "$2" = yes ]; then
     "$BIN/df_detector" --set "dds { ns: \"$NS\" }" --set 'model: "simulated"' \
-      --set "sim_sequence: \"$TMP/cut\"" >"$TMP/$name.detector.log" 2>&1 &
+      --set "sim_sequence: \"$TMP/cut\"" --set "input: \"$input\"" >"$TMP/$name.detector.log" 2>&1 &
     d=$!; pids+=($d)
   fi
   "$BIN/df_fusion" --set "dds { ns: \"$NS\" }" >"$TMP/$name.fusion.log" 2>&1 &
   local f=$!; pids+=($f)
   "$BIN/df_capture" "$TMP/cut" --set "dds { ns: \"$NS\" }" --set 'playback: LOCKSTEP' \
-    --set 'lockstep_stages: "fusion"' --set 'start_wait_s: 20' >"$TMP/$name.capture.log" 2>&1 \
+    --set 'lockstep_stages: "fusion"' --set 'start_wait_s: 20' --set 'color_small_width: 320' \
+    >"$TMP/$name.capture.log" 2>&1 \
     || fail "$name: capture failed: $(tail "$TMP/$name.capture.log")"
   grep -q "0 lockstep timeouts" "$TMP/$name.capture.log" || fail "$name: lockstep timeouts: $(grep done: "$TMP/$name.capture.log")"
   wait $g || fail "$name: geoseg failed: $(tail -3 "$TMP/$name.geoseg.log")"
@@ -68,6 +70,10 @@ PY
 run_pipeline full yes
 check full yes || fail "object_segments with the detector: $(head -c 1500 "$TMP/full.echo")"
 pass "object_segments for every frame with classes (simulated detector)"
+run_pipeline small yes color_small
+check small yes || fail "object_segments with the detector on color_small: $(head -c 1500 "$TMP/small.echo")"
+grep -q "waiting for frames on $NS/color_small" "$TMP/small.detector.log" || fail "detector input: $(head -3 "$TMP/small.detector.log")"
+pass "the detector on the reduced JPEG colour topic (for a second host): boxes land on the full frame"
 run_pipeline nodet no
 check nodet no || fail "object_segments without a detector: $(head -c 1500 "$TMP/nodet.echo")"
 grep -q "0 with their own detections" "$TMP/nodet.fusion.log" || fail "fusion: $(tail -2 "$TMP/nodet.fusion.log")"
