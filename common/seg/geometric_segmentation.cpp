@@ -53,8 +53,8 @@ cv::Mat edge_map(const cv::Mat& vertex, const cv::Mat& normal,
             bool edge = false;
             for (int k = 0; k < c.neighbours && !edge; ++k) {
                 const float* vk = vrow[1 + dy[k]] + 3 * (x + dx[k]);
-                const float d = (vk[0] - v[0]) * n[0] + (vk[1] - v[1]) * n[1] +
-                                (vk[2] - v[2]) * n[2];
+                const float d =
+                    (vk[0] - v[0]) * n[0] + (vk[1] - v[1]) * n[1] + (vk[2] - v[2]) * n[2];
                 if (std::fabs(d) > max_d) {
                     edge = true;
                 } else if (d >= 0.f) {
@@ -74,7 +74,8 @@ int drop_small(cv::Mat& labels, const cv::Mat& stats, int components, int min_pi
     std::vector<int32_t> remap(static_cast<size_t>(components), 0);
     int count = 0;
     for (int i = 1; i < components; ++i) {
-        if (stats.at<int>(i, cv::CC_STAT_AREA) >= min_pixels) remap[static_cast<size_t>(i)] = ++count;
+        if (stats.at<int>(i, cv::CC_STAT_AREA) >= min_pixels)
+            remap[static_cast<size_t>(i)] = ++count;
     }
     for (int y = 0; y < labels.rows; ++y) {
         int32_t* l = labels.ptr<int32_t>(y);
@@ -166,16 +167,15 @@ Result<GeometricSegmentation> segment_geometry(const cv::Mat& vertex, const cv::
         normal.size() != vertex.size()) {
         return error(StatusCode::kInvalidArgument,
                      "segment_geometry: vertex and normal must be CV_32FC3 of one size, got " +
-                         cv::typeToString(vertex.type()) + " " + std::to_string(vertex.cols) +
-                         "x" + std::to_string(vertex.rows) + " and " +
-                         cv::typeToString(normal.type()) + " " + std::to_string(normal.cols) +
-                         "x" + std::to_string(normal.rows));
+                         cv::typeToString(vertex.type()) + " " + std::to_string(vertex.cols) + "x" +
+                         std::to_string(vertex.rows) + " and " + cv::typeToString(normal.type()) +
+                         " " + std::to_string(normal.cols) + "x" + std::to_string(normal.rows));
     }
     GeometricSegmentation out;
     out.edges = edge_map(vertex, normal, config);
     cv::Mat stats, centroids;
-    const int components = cv::connectedComponentsWithStats(out.edges == 0, out.labels, stats,
-                                                            centroids, 4, CV_32S);
+    const int components =
+        cv::connectedComponentsWithStats(out.edges == 0, out.labels, stats, centroids, 4, CV_32S);
     out.count = drop_small(out.labels, stats, components, config.min_segment_pixels);
     absorb(vertex, out.labels, config.absorb_max_depth_difference_m, config.absorb_iterations);
     return out;

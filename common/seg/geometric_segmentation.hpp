@@ -1,9 +1,10 @@
 #pragma once
 /// Geometric segmentation of a depth image (Tateno et al. 2015, as MaskFusion and DetectFusion
 /// use it): per-pixel edge strength from normal concavity and depth discontinuity over the
-/// neighbours (4 by default, the anchors' 8 as an option), a threshold, 4-connected components of the non-edge pixels, a minimum segment
-/// size, and edge pixels re-absorbed into an adjacent segment of nearly the same depth.
-/// DDS-free; works on the vertex and normal maps of one camera frame.
+/// neighbours (4 by default, the anchors' 8 as an option), a threshold, 4-connected components of
+/// the non-edge pixels, a minimum segment size, and edge pixels re-absorbed into an adjacent
+/// segment of nearly the same depth. DDS-free; works on the vertex and normal maps of one camera
+/// frame.
 ///
 /// Normal convention (pinned by a test): normals point towards the camera (n . v < 0), as
 /// df_slam's preprocessing makes them. For a neighbour v_k of v, (v_k - v) . n < 0 means v_k lies

@@ -62,8 +62,7 @@ std::string validate(const InstanceSegmentationConfig& c) {
     } else if (!(c.min_core_box_fraction >= 0.f && c.min_core_box_fraction <= 1.f)) {
         msg << "min_core_box_fraction must be in [0, 1], got " << c.min_core_box_fraction;
     } else if (!(c.min_fill_fraction > 0.f)) {
-        msg << "min_fill_fraction must be > 0 (> 1 disables the rule), got "
-            << c.min_fill_fraction;
+        msg << "min_fill_fraction must be > 0 (> 1 disables the rule), got " << c.min_fill_fraction;
     } else if (c.min_instance_pixels < 1) {
         msg << "min_instance_pixels must be >= 1, got " << c.min_instance_pixels;
     }
@@ -83,7 +82,8 @@ Result<InstanceSegmentation> segment_instances(const cv::Mat& segment_labels, in
                      "segment_instances: segment labels must be a non-empty CV_32SC1 image, got " +
                          cv::typeToString(segment_labels.type()));
     }
-    if (!depth_m.empty() && (depth_m.type() != CV_32FC1 || depth_m.size() != segment_labels.size())) {
+    if (!depth_m.empty() &&
+        (depth_m.type() != CV_32FC1 || depth_m.size() != segment_labels.size())) {
         return error(StatusCode::kInvalidArgument,
                      "segment_instances: depth must be empty or CV_32FC1 of the labels' size");
     }
@@ -174,11 +174,10 @@ Result<InstanceSegmentation> segment_instances(const cv::Mat& segment_labels, in
                 for (int32_t s : touched) {
                     if (std::find(taken.begin(), taken.end(), s) != taken.end()) continue;
                     // Without depth (none given, or none valid) the depth test is skipped.
-                    const bool near_core = depth_m.empty() ||
-                                           stats.depth_count[static_cast<size_t>(s)] == 0 ||
-                                           stats.depth_count[static_cast<size_t>(core)] == 0 ||
-                                           std::fabs(stats.mean_depth(s) - core_depth) <=
-                                               config.max_depth_from_core_m;
+                    const bool near_core =
+                        depth_m.empty() || stats.depth_count[static_cast<size_t>(s)] == 0 ||
+                        stats.depth_count[static_cast<size_t>(core)] == 0 ||
+                        std::fabs(stats.mean_depth(s) - core_depth) <= config.max_depth_from_core_m;
                     if (inside_of(s) >= config.min_inside_fraction && near_core) {
                         taken.push_back(s);
                     }

@@ -47,9 +47,9 @@ struct Instance {
 };
 
 struct InstanceSegmentation {
-    cv::Mat labels;         ///< CV_16UC1, instance id, 0 = none
-    cv::Mat rigid_mask;     ///< CV_8UC1, 255 on instances of rigid classes
-    cv::Mat non_rigid_mask; ///< CV_8UC1, 255 on instances of non-rigid classes (persons)
+    cv::Mat labels;          ///< CV_16UC1, instance id, 0 = none
+    cv::Mat rigid_mask;      ///< CV_8UC1, 255 on instances of rigid classes
+    cv::Mat non_rigid_mask;  ///< CV_8UC1, 255 on instances of non-rigid classes (persons)
     std::vector<Instance> instances;
 };
 

@@ -1,5 +1,6 @@
 #include "service/service.hpp"
 
+#include <chrono>
 #include <csignal>
 
 #include "config/config_loader.hpp"
@@ -45,6 +46,12 @@ Result<dds::Participant> make_participant(const config::DdsConfig& dds) {
     pc.transport = *transport;
     pc.extra_xml = dds.extra_xml();
     return dds::Participant::create(pc);
+}
+
+int64_t steady_ns() {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(
+               std::chrono::steady_clock::now().time_since_epoch())
+        .count();
 }
 
 }  // namespace df::service

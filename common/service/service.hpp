@@ -5,9 +5,11 @@
 
 #include <CLI/CLI.hpp>
 #include <atomic>
+#include <cstdint>
 #include <string>
 #include <vector>
 
+#include "core/log.hpp"
 #include "dds.pb.h"
 #include "dds/participant.hpp"
 
@@ -31,5 +33,30 @@ bool load_config(const ConfigFlags& flags, google::protobuf::Message* config);
 
 /// Creates the participant the DdsConfig describes.
 Result<dds::Participant> make_participant(const config::DdsConfig& dds);
+
+/// Monotonic clock, nanoseconds (for timing and deadlines; not comparable across processes).
+int64_t steady_ns();
+
+/// The common tail of a service's main(): makes the participant from `dds`, the node with
+/// `create(participant)` (a Result<std::unique_ptr<Node>>), runs it; logs any error. Returns the
+/// process exit code: 0, or 1 on failure.
+template <typename Create>
+int run_node(const config::DdsConfig& dds, Create&& create) {
+    auto participant = make_participant(dds);
+    if (!participant) {
+        log::error(participant.status().message());
+        return 1;
+    }
+    auto node = create(*participant);
+    if (!node) {
+        log::error(node.status().message());
+        return 1;
+    }
+    if (auto s = (*node)->run(); !s) {
+        log::error(s.message());
+        return 1;
+    }
+    return 0;
+}
 
 }  // namespace df::service

@@ -81,7 +81,8 @@ std::vector<detect::Detection> simulate_detections(const cv::Mat& instance,
             d.class_id = 56;
             d.class_name = "chair";
         } else {
-            const ObjectClass* o = known[static_cast<size_t>(unit(rng) * known.size()) % known.size()];
+            const ObjectClass* o =
+                known[static_cast<size_t>(unit(rng) * known.size()) % known.size()];
             d.class_id = o->class_id;
             d.class_name = o->class_name;
         }

@@ -6,8 +6,8 @@
 /// configurable and drawn from a seeded generator (same seed and frame, same boxes); latency is
 /// for the caller (the detector service) to apply. The real detector is df_detect (YOLO).
 #include <cstdint>
-#include <string>
 #include <opencv2/core.hpp>
+#include <string>
 #include <vector>
 
 #include "detect/detection.hpp"
@@ -18,10 +18,10 @@ namespace df::sim {
 struct SimulatedDetectorConfig {
     double miss_rate = 0.0;                ///< probability that a visible object is not reported
     double false_positives_per_frame = 0;  ///< mean of a Poisson count of random boxes per frame
-    double box_jitter = 0.0;      ///< each box edge moves by N(0, jitter * box size), fraction
-    int min_visible_pixels = 200; ///< objects showing fewer pixels are not reported
-    double score = 0.9;           ///< score of true detections (false positives: 0.3..0.6)
-    double latency_ms = 0.0;      ///< added delay the detector service waits before answering
+    double box_jitter = 0.0;       ///< each box edge moves by N(0, jitter * box size), fraction
+    int min_visible_pixels = 200;  ///< objects showing fewer pixels are not reported
+    double score = 0.9;            ///< score of true detections (false positives: 0.3..0.6)
+    double latency_ms = 0.0;       ///< added delay the detector service waits before answering
     uint64_t seed = 1;
 };
 

@@ -39,10 +39,10 @@ std::string validate(const JoinConfig& config);
 /// What to publish for one frame.
 struct JoinDecision {
     uint64_t seq = 0;
-    Arrival segments = Arrival::kOk;   ///< the frame's segments status
-    bool detections_used = false;      ///< false: published without detections
-    uint64_t detections_seq = 0;       ///< which frame's detections (== seq when its own)
-    std::string why;                   ///< "own", "deadline, reused N", "deadline", ...
+    Arrival segments = Arrival::kOk;  ///< the frame's segments status
+    bool detections_used = false;     ///< false: published without detections
+    uint64_t detections_seq = 0;      ///< which frame's detections (== seq when its own)
+    std::string why;                  ///< "own", "deadline, reused N", "deadline", ...
 };
 
 class FrameJoin {

@@ -15,11 +15,7 @@
 namespace df::detector_service {
 namespace {
 
-int64_t now_ns() {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(
-               std::chrono::steady_clock::now().time_since_epoch())
-        .count();
-}
+int64_t now_ns() { return service::steady_ns(); }
 
 class YoloSource : public BoxSource {
   public:
@@ -50,10 +46,12 @@ class SimulatedSource : public BoxSource {
         const std::string file = folder_ + "/instances/" + name;
         const cv::Mat instance = cv::imread(file, cv::IMREAD_UNCHANGED);
         if (instance.empty() || instance.type() != CV_16UC1) {
-            return error(StatusCode::kNotFound, "simulated detector: no 16-bit instance image " + file);
+            return error(StatusCode::kNotFound,
+                         "simulated detector: no 16-bit instance image " + file);
         }
         if (config_.latency_ms > 0) {
-            std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(config_.latency_ms));
+            std::this_thread::sleep_for(
+                std::chrono::duration<double, std::milli>(config_.latency_ms));
         }
         auto boxes = sim::simulate_detections(instance, classes_, static_cast<int>(seq), config_);
         // In the pixels of the image given (the reduced colour image on color_small).
@@ -79,16 +77,18 @@ class SimulatedSource : public BoxSource {
 Result<std::unique_ptr<BoxSource>> open_source(const config::DetectorServiceConfig& c) {
     if (c.model() == "simulated") {
         if (c.sim_sequence().empty() || !std::filesystem::is_directory(c.sim_sequence())) {
-            return error(StatusCode::kNotFound,
-                         "model \"simulated\" needs sim_sequence: a generated sequence folder, got \"" +
-                             c.sim_sequence() + "\"");
+            return error(
+                StatusCode::kNotFound,
+                "model \"simulated\" needs sim_sequence: a generated sequence folder, got \"" +
+                    c.sim_sequence() + "\"");
         }
         auto instances = eval::read_instances_json(c.sim_sequence() + "/instances.json");
         if (!instances) return instances.status();
         std::vector<sim::ObjectClass> classes;
         for (const eval::GtInstance& g : *instances) {
             if (g.id < 1) continue;
-            if (classes.size() < static_cast<size_t>(g.id)) classes.resize(static_cast<size_t>(g.id));
+            if (classes.size() < static_cast<size_t>(g.id))
+                classes.resize(static_cast<size_t>(g.id));
             classes[static_cast<size_t>(g.id) - 1] = {g.class_id, g.class_name};
         }
         sim::SimulatedDetectorConfig s;
@@ -154,9 +154,9 @@ Result<std::unique_ptr<DetectorNode>> DetectorNode::create(
     auto status = dds::Writer<df_msg_StageStatus>::create(
         participant, dds::topic_name(ns, dds::topics::kStageStatus));
     if (!status) return status.status();
-    return std::unique_ptr<DetectorNode>(new DetectorNode(
-        config, std::move(source), std::move(frames), std::move(small), std::move(*detections),
-        std::move(*status), std::move(*waitset)));
+    return std::unique_ptr<DetectorNode>(
+        new DetectorNode(config, std::move(source), std::move(frames), std::move(small),
+                         std::move(*detections), std::move(*status), std::move(*waitset)));
 }
 
 DetectorNode::DetectorNode(const config::DetectorServiceConfig& config,

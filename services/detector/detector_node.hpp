@@ -49,8 +49,8 @@ class DetectorNode {
     DetectorNode(const config::DetectorServiceConfig& config, std::unique_ptr<BoxSource> source,
                  std::optional<dds::Reader<df_msg_RgbdFrame>> frames,
                  std::optional<dds::Reader<df_msg_CompressedImage>> small,
-                 dds::Writer<df_msg_Detections> detections,
-                 dds::Writer<df_msg_StageStatus> status, dds::WaitSet waitset);
+                 dds::Writer<df_msg_Detections> detections, dds::Writer<df_msg_StageStatus> status,
+                 dds::WaitSet waitset);
     Status take(std::vector<Pending>* pending);
     uint32_t matched_writers() const;
     void handle(const Pending& p);

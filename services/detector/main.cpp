@@ -8,8 +8,9 @@
 
 int main(int argc, char** argv) {
     df::log::set_component("detector");
-    CLI::App app{"df_detector: COCO object detection (YOLO, or simulated from ground truth) as a "
-                 "DDS service"};
+    CLI::App app{
+        "df_detector: COCO object detection (YOLO, or simulated from ground truth) as a "
+        "DDS service"};
     df::service::ConfigFlags flags;
     df::service::add_config_flags(app, &flags);
     CLI11_PARSE(app, argc, argv);
@@ -21,20 +22,7 @@ int main(int argc, char** argv) {
         df::log::error(source.status().message());
         return 2;
     }
-    auto participant = df::service::make_participant(config.dds());
-    if (!participant) {
-        df::log::error(participant.status().message());
-        return 1;
-    }
-    auto node =
-        df::detector_service::DetectorNode::create(config, std::move(*source), *participant);
-    if (!node) {
-        df::log::error(node.status().message());
-        return 1;
-    }
-    if (auto s = (*node)->run(); !s) {
-        df::log::error(s.message());
-        return 1;
-    }
-    return 0;
+    return df::service::run_node(config.dds(), [&](df::dds::Participant& p) {
+        return df::detector_service::DetectorNode::create(config, std::move(*source), p);
+    });
 }

@@ -12,11 +12,7 @@
 namespace df::fusion_service {
 namespace {
 
-int64_t now_ns() {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(
-               std::chrono::steady_clock::now().time_since_epoch())
-        .count();
-}
+int64_t now_ns() { return service::steady_ns(); }
 
 sync::Arrival arrival_of(df_msg_FrameStatus s) {
     switch (s) {
@@ -45,9 +41,10 @@ Result<FusionSettings> settings_from(const config::FusionServiceConfig& c) {
     s.rigid = c.rigid_classes().empty()
                   ? defaults.rigid_classes
                   : std::set<std::string>(c.rigid_classes().begin(), c.rigid_classes().end());
-    s.non_rigid = c.non_rigid_classes().empty() ? defaults.non_rigid_classes
-                                                : std::set<std::string>(c.non_rigid_classes().begin(),
-                                                                        c.non_rigid_classes().end());
+    s.non_rigid =
+        c.non_rigid_classes().empty()
+            ? defaults.non_rigid_classes
+            : std::set<std::string>(c.non_rigid_classes().begin(), c.non_rigid_classes().end());
     const auto& names = detect::coco_names();
     for (const auto* set : {&s.rigid, &s.non_rigid}) {
         for (const std::string& n : *set) {
@@ -86,9 +83,9 @@ Result<std::unique_ptr<FusionNode>> FusionNode::create(const config::FusionServi
     if (!waitset) return waitset.status();
     DF_RETURN_IF_ERROR(waitset->attach_reader(segments->get()));
     DF_RETURN_IF_ERROR(waitset->attach_reader(detections->get()));
-    return std::unique_ptr<FusionNode>(
-        new FusionNode(config, settings, std::move(*segments), std::move(*detections),
-                       std::move(*objects), std::move(*status), std::move(*waitset)));
+    return std::unique_ptr<FusionNode>(new FusionNode(config, settings, std::move(*segments),
+                                                      std::move(*detections), std::move(*objects),
+                                                      std::move(*status), std::move(*waitset)));
 }
 
 FusionNode::FusionNode(const config::FusionServiceConfig& config, const FusionSettings& settings,
@@ -252,7 +249,8 @@ Status FusionNode::run() {
     while (!service::stop_requested()) {
         const int64_t now = now_ns();
         int64_t wait_ns = 100'000'000;
-        if (auto next = join_.next_deadline_ns()) wait_ns = std::clamp<int64_t>(*next - now, 0, wait_ns);
+        if (auto next = join_.next_deadline_ns())
+            wait_ns = std::clamp<int64_t>(*next - now, 0, wait_ns);
         auto woke = waitset_.wait(wait_ns);
         if (!woke) return woke.status();
         DF_RETURN_IF_ERROR(take(now_ns()));
@@ -277,8 +275,8 @@ Status FusionNode::run() {
                 classes += (classes.empty() ? "" : ", ") + name + " " + std::to_string(n);
             }
             log::info("stream ended: ", published_, " frames published (", with_own_,
-                      " with their own detections, ", with_reused_, " with reused ones, ",
-                      without_, " without); instances: ", classes.empty() ? "none" : classes);
+                      " with their own detections, ", with_reused_, " with reused ones, ", without_,
+                      " without); instances: ", classes.empty() ? "none" : classes);
             if (config_.exit_at_end()) return Status::ok();
             had_writers = started = false;
             published_ = with_own_ = with_reused_ = without_ = 0;

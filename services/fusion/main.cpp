@@ -8,8 +8,9 @@
 
 int main(int argc, char** argv) {
     df::log::set_component("fusion");
-    CLI::App app{"df_fusion: instance segmentation from detector boxes and geometric segments, "
-                 "joined by frame with a detection deadline"};
+    CLI::App app{
+        "df_fusion: instance segmentation from detector boxes and geometric segments, "
+        "joined by frame with a detection deadline"};
     df::service::ConfigFlags flags;
     df::service::add_config_flags(app, &flags);
     CLI11_PARSE(app, argc, argv);
@@ -21,19 +22,7 @@ int main(int argc, char** argv) {
         df::log::error("configuration: ", settings.status().message());
         return 2;
     }
-    auto participant = df::service::make_participant(config.dds());
-    if (!participant) {
-        df::log::error(participant.status().message());
-        return 1;
-    }
-    auto node = df::fusion_service::FusionNode::create(config, *settings, *participant);
-    if (!node) {
-        df::log::error(node.status().message());
-        return 1;
-    }
-    if (auto s = (*node)->run(); !s) {
-        df::log::error(s.message());
-        return 1;
-    }
-    return 0;
+    return df::service::run_node(config.dds(), [&](df::dds::Participant& p) {
+        return df::fusion_service::FusionNode::create(config, *settings, p);
+    });
 }

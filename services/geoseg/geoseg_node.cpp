@@ -11,11 +11,7 @@
 namespace df::geoseg_service {
 namespace {
 
-int64_t now_ns() {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(
-               std::chrono::steady_clock::now().time_since_epoch())
-        .count();
-}
+int64_t now_ns() { return service::steady_ns(); }
 
 double ms_since(int64_t start_ns) { return static_cast<double>(now_ns() - start_ns) * 1e-6; }
 
@@ -49,12 +45,13 @@ Status apply(const config::GeosegParams& p, seg::GeometricSegmentationConfig* se
     return Status::ok();
 }
 
-Result<std::unique_ptr<GeosegNode>> GeosegNode::create(
-    const config::GeosegServiceConfig& config, const seg::GeometricSegmentationConfig& seg,
-    const slam::PreprocessConfig& preprocess, dds::Participant& participant) {
+Result<std::unique_ptr<GeosegNode>> GeosegNode::create(const config::GeosegServiceConfig& config,
+                                                       const seg::GeometricSegmentationConfig& seg,
+                                                       const slam::PreprocessConfig& preprocess,
+                                                       dds::Participant& participant) {
     const std::string& ns = config.dds().ns();
-    auto frames = dds::Reader<df_msg_RgbdFrame>::create(
-        participant, dds::topic_name(ns, dds::topics::kFrames));
+    auto frames = dds::Reader<df_msg_RgbdFrame>::create(participant,
+                                                        dds::topic_name(ns, dds::topics::kFrames));
     if (!frames) return frames.status();
     auto segments = dds::Writer<df_msg_GeometricSegments>::create(
         participant, dds::topic_name(ns, dds::topics::kGeometricSegments));
@@ -92,7 +89,8 @@ void GeosegNode::answer(const df_msg_Header& header, df_msg_FrameStatus status) 
         m.header.status = status;
         m.width = m.height = 0;
         m.segment_count = 0;
-        if (Status s = segments_.write(std::move(*loan)); !s) log::warn("seq=", header.seq, " ", s.message());
+        if (Status s = segments_.write(std::move(*loan)); !s)
+            log::warn("seq=", header.seq, " ", s.message());
     }
     df_msg_StageStatus st{};
     st.header = header;
@@ -145,9 +143,11 @@ void GeosegNode::handle(const io::RgbdImage& image, const df_msg_Header& header)
     uint16_t* out = m.labels;
     for (int y = 0; y < g->labels.rows; ++y) {
         const int32_t* l = g->labels.ptr<int32_t>(y);
-        for (int x = 0; x < g->labels.cols; ++x) *out++ = static_cast<uint16_t>(std::min(l[x], 65535));
+        for (int x = 0; x < g->labels.cols; ++x)
+            *out++ = static_cast<uint16_t>(std::min(l[x], 65535));
     }
-    if (Status s = segments_.write(std::move(*loan)); !s) log::warn("seq=", header.seq, " ", s.message());
+    if (Status s = segments_.write(std::move(*loan)); !s)
+        log::warn("seq=", header.seq, " ", s.message());
     ++processed_;
     df_msg_StageStatus st{};
     st.header = header;
@@ -191,12 +191,12 @@ Status GeosegNode::run() {
         const uint32_t writers = frames_.matched_writers();
         if (writers > 0) had_writers = true;
         const bool gone = started && had_writers && writers == 0 && pending.empty();
-        const bool idle = started && config_.idle_exit_s() > 0 &&
-                          static_cast<double>(now_ns() - last_frame_ns) * 1e-9 > config_.idle_exit_s();
+        const bool idle =
+            started && config_.idle_exit_s() > 0 &&
+            static_cast<double>(now_ns() - last_frame_ns) * 1e-9 > config_.idle_exit_s();
         if (gone || idle) {
-            log::info("stream ended (", gone ? "the frame writers left" : "idle", "): ",
-                      processed_, " frames segmented, ", skipped_, " skipped, ", failed_,
-                      " failed");
+            log::info("stream ended (", gone ? "the frame writers left" : "idle", "): ", processed_,
+                      " frames segmented, ", skipped_, " skipped, ", failed_, " failed");
             if (config_.exit_at_end()) return Status::ok();
             had_writers = started = false;
             processed_ = skipped_ = failed_ = 0;

@@ -10,8 +10,8 @@
 #include "dds/waitset.hpp"
 #include "dds/writer.hpp"
 #include "df_msgs.h"
-#include "io/rgbd_image.hpp"
 #include "geoseg.pb.h"
+#include "io/rgbd_image.hpp"
 #include "seg/geometric_segmentation.hpp"
 #include "slam/slam_config.hpp"
 

@@ -8,8 +8,9 @@
 
 int main(int argc, char** argv) {
     df::log::set_component("geoseg");
-    CLI::App app{"df_geoseg: geometric segmentation of depth frames (Tateno et al. 2015) as a "
-                 "DDS service"};
+    CLI::App app{
+        "df_geoseg: geometric segmentation of depth frames (Tateno et al. 2015) as a "
+        "DDS service"};
     df::service::ConfigFlags flags;
     df::service::add_config_flags(app, &flags);
     CLI11_PARSE(app, argc, argv);
@@ -22,19 +23,7 @@ int main(int argc, char** argv) {
         df::log::error(s.message());
         return 2;
     }
-    auto participant = df::service::make_participant(config.dds());
-    if (!participant) {
-        df::log::error(participant.status().message());
-        return 1;
-    }
-    auto node = df::geoseg_service::GeosegNode::create(config, seg, preprocess, *participant);
-    if (!node) {
-        df::log::error(node.status().message());
-        return 1;
-    }
-    if (auto s = (*node)->run(); !s) {
-        df::log::error(s.message());
-        return 1;
-    }
-    return 0;
+    return df::service::run_node(config.dds(), [&](df::dds::Participant& p) {
+        return df::geoseg_service::GeosegNode::create(config, seg, preprocess, p);
+    });
 }

@@ -83,8 +83,7 @@ Result<cv::Mat> read_mask(const OfflineOptions& o, const io::RgbdImage& image) {
         return error(StatusCode::kInvalidArgument,
                      "mask " + file + " is " + std::to_string(raw.cols) + "x" +
                          std::to_string(raw.rows) + ", the frame " +
-                         std::to_string(image.depth.cols) + "x" +
-                         std::to_string(image.depth.rows));
+                         std::to_string(image.depth.cols) + "x" + std::to_string(image.depth.rows));
     }
     cv::Mat mask = raw != 0;
     if (o.mask_dilate_px > 0) {
@@ -194,21 +193,23 @@ int run_offline(const OfflineOptions& options, const config::SlamServiceConfig& 
                       " inliers=", report->tracking.inlier_ratio,
                       " icp_rmse_mm=", report->tracking.icp_rmse_m * 1000,
                       " surfels=", report->fusion.total, " fused=", report->fusion.fused,
-                      " created=", report->fusion.created, " removed=",
-                      report->fusion.removed + report->fusion.removed_free_space, " total_ms=", report->times.total_ms);
+                      " created=", report->fusion.created,
+                      " removed=", report->fusion.removed + report->fusion.removed_free_space,
+                      " total_ms=", report->times.total_ms);
         }
         ++seq;
     }
     const double wall_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const Status written = outputs->finish(*system, config.output().stable_only(), wall_s);
-    std::printf("processed %llu frames (%llu lost, %llu bad) in %.1f s = %.1f frames/s; map %zu "
-                "surfels\n",
-                static_cast<unsigned long long>(system->frames()),
-                static_cast<unsigned long long>(system->lost_frames()),
-                static_cast<unsigned long long>(bad_frames), wall_s,
-                wall_s > 0 ? static_cast<double>(system->frames()) / wall_s : 0.0,
-                system->static_map().size());
+    std::printf(
+        "processed %llu frames (%llu lost, %llu bad) in %.1f s = %.1f frames/s; map %zu "
+        "surfels\n",
+        static_cast<unsigned long long>(system->frames()),
+        static_cast<unsigned long long>(system->lost_frames()),
+        static_cast<unsigned long long>(bad_frames), wall_s,
+        wall_s > 0 ? static_cast<double>(system->frames()) / wall_s : 0.0,
+        system->static_map().size());
     std::printf("trajectory %s\nmap %s\ntimings %s/timings.log\nsummary %s\n",
                 outputs->trajectory_file().c_str(), outputs->map_file().c_str(),
                 outputs->dir().c_str(), outputs->summary_file().c_str());

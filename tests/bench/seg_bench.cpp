@@ -43,9 +43,8 @@ int main() {
         }
         for (int i = 10; i < 120; i += 10) {
             const sim::RenderBuffers b = sim::render_frame(*s, i);
-            const sim::SensorFrame sensor = sim::apply_sensor(b, s->sensor, s->intrinsics,
-                                                              s->depth_units_per_m, s->seed, i,
-                                                              s->time_s(i), 0);
+            const sim::SensorFrame sensor = sim::apply_sensor(
+                b, s->sensor, s->intrinsics, s->depth_units_per_m, s->seed, i, s->time_s(i), 0);
             io::RgbdImage image;
             image.rgb = sensor.rgb;
             image.depth = sensor.depth;

@@ -1,13 +1,14 @@
 // Geometric segmentation: the normal sign convention on analytic folds (concave is an edge,
 // convex is not), depth steps, bad input; and on generated sequences, how well segments cover
 // the ground-truth objects.
+#include "seg/geometric_segmentation.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <map>
 #include <set>
 
-#include "seg/geometric_segmentation.hpp"
 #include "seg_test_frames.hpp"
 #include "slam/depth_maps.hpp"
 
@@ -58,7 +59,8 @@ double edge_fraction(const cv::Mat& edges, int u0, int u1) {
 // Fraction of the rows (away from the border) with an edge pixel in column band [u0, u1).
 double rows_with_edge(const cv::Mat& edges, int u0, int u1) {
     int rows = 0;
-    for (int v = 2; v < kH - 2; ++v) rows += cv::countNonZero(edges(cv::Rect(u0, v, u1 - u0, 1))) > 0;
+    for (int v = 2; v < kH - 2; ++v)
+        rows += cv::countNonZero(edges(cv::Rect(u0, v, u1 - u0, 1))) > 0;
     return rows / static_cast<double>(kH - 4);
 }
 
@@ -123,8 +125,8 @@ TEST(GeometricSegmentation, CoversGeneratedObjectsWithoutStraddlingTheirSilhouet
             const auto [ious, impure] = test::best_segment_ious(g->labels, g->count, f.instance);
             for (const auto& [id, iou] : ious) {
                 const double z = test::median_depth(f.instance, f.depth_m, id);
-                std::printf("%s frame %d %s at %.1f m: best segment IoU %.2f%s\n", preset,
-                            f.index, frames.names.at(id).c_str(), z, iou,
+                std::printf("%s frame %d %s at %.1f m: best segment IoU %.2f%s\n", preset, f.index,
+                            frames.names.at(id).c_str(), z, iou,
                             z > test::kMaxScoredDepthM ? " (too far, not scored)" : "");
                 if (z > test::kMaxScoredDepthM) continue;
                 iou_sum += iou;
@@ -136,9 +138,10 @@ TEST(GeometricSegmentation, CoversGeneratedObjectsWithoutStraddlingTheirSilhouet
     }
     ASSERT_GT(objects, 6);
     const double mean = iou_sum / objects;
-    std::printf("mean best-segment IoU over %d object views: %.3f; segments straddling an "
-                "object silhouette: %d of %d\n",
-                objects, mean, straddling, object_segments);
+    std::printf(
+        "mean best-segment IoU over %d object views: %.3f; segments straddling an "
+        "object silhouette: %d of %d\n",
+        objects, mean, straddling, object_segments);
     EXPECT_GT(mean, 0.5);  // measured 0.590 (docs/segmentation.md)
     EXPECT_LE(straddling, object_segments / 10);
 }

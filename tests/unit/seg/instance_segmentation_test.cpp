@@ -1,12 +1,13 @@
 // Box-and-segment fusion: the rules on hand-made label images, and on generated sequences with
 // the SIMULATED detector (boxes from ground truth), the object masks against the ground-truth
 // instance masks, compared with using the boxes themselves as masks.
+#include "seg/instance_segmentation.hpp"
+
 #include <gtest/gtest.h>
 
 #include <map>
 
 #include "seg/geometric_segmentation.hpp"
-#include "seg/instance_segmentation.hpp"
 #include "seg_test_frames.hpp"
 #include "sim/simulated_detector.hpp"
 
@@ -108,10 +109,12 @@ TEST(InstanceSegmentation, FusedMasksBeatBoxesOnGeneratedSequences) {
                 instance_object[inst.id] = id;
             }
             for (const detect::Detection& d : dets) {
-                const cv::Rect b = cv::Rect(d.box) & cv::Rect(0, 0, f.instance.cols, f.instance.rows);
+                const cv::Rect b =
+                    cv::Rect(d.box) & cv::Rect(0, 0, f.instance.cols, f.instance.rows);
                 std::map<int, int> votes;
                 for (int y = b.y; y < b.y + b.height; ++y)
-                    for (int x = b.x; x < b.x + b.width; ++x) ++votes[f.instance.at<uint16_t>(y, x)];
+                    for (int x = b.x; x < b.x + b.width; ++x)
+                        ++votes[f.instance.at<uint16_t>(y, x)];
                 int id = 0, best = 0;
                 for (auto [k, n] : votes)
                     if (k != 0 && n > best) best = n, id = k;
@@ -126,8 +129,8 @@ TEST(InstanceSegmentation, FusedMasksBeatBoxesOnGeneratedSequences) {
                 cv::Mat as_box = cv::Mat::zeros(truth.size(), CV_8UC1);
                 as_box(b).setTo(255);
                 const double a = iou(fused, truth), c = iou(as_box, truth);
-                std::printf("%s frame %d %s: fused mask IoU %.2f, box IoU %.2f\n", preset,
-                            f.index, d.class_name.c_str(), a, c);
+                std::printf("%s frame %d %s: fused mask IoU %.2f, box IoU %.2f\n", preset, f.index,
+                            d.class_name.c_str(), a, c);
                 fused_sum += a;
                 box_sum += c;
                 ++scored;

@@ -1,12 +1,12 @@
 // FrameJoin driven by tables: segments (S) and detections (D) arriving at given milliseconds,
 // frames captured at 30 Hz (frame k at k * 33.333 ms); the clock is polled every millisecond.
 // Each table lists what is published for each frame, when, and with which frame's detections.
+#include "sync/frame_join.hpp"
+
 #include <gtest/gtest.h>
 
 #include <string>
 #include <vector>
-
-#include "sync/frame_join.hpp"
 
 namespace df::sync {
 namespace {
@@ -80,8 +80,7 @@ TEST(FrameJoin, DetectionsInTimeArePairedWithTheirFrame) {
 TEST(FrameJoin, LateDetectionsReleaseTheFrameAtTheDeadlineAndAreReusedLater) {
     // Frame 0's detections come 80 ms late: frame 0 goes at 60 ms without; frame 1 (deadline
     // 93 ms, no detections of its own) reuses them, frame 0 being 33 ms older.
-    expect_table(run({{0, 'S', 0}, {33, 'S', 1}, {80, 'D', 0}}, 300),
-                 {{0, 60, -1}, {1, 93, 0}});
+    expect_table(run({{0, 'S', 0}, {33, 'S', 1}, {80, 'D', 0}}, 300), {{0, 60, -1}, {1, 93, 0}});
 }
 
 TEST(FrameJoin, MissingDetectorNeverStallsTheFrames) {
@@ -97,9 +96,9 @@ TEST(FrameJoin, DetectionsBeforeTheirSegmentsWait) {
 
 TEST(FrameJoin, DuplicatesAreIgnoredAndCounted) {
     FrameJoin join;
-    expect_table(run({{0, 'S', 0}, {5, 'S', 0}, {10, 'D', 0}, {12, 'D', 0}, {15, 'S', 0}}, 100,
-                     {}, &join),
-                 {{0, 10, 0}});
+    expect_table(
+        run({{0, 'S', 0}, {5, 'S', 0}, {10, 'D', 0}, {12, 'D', 0}, {15, 'S', 0}}, 100, {}, &join),
+        {{0, 10, 0}});
     EXPECT_EQ(join.duplicates(), 2u);  // the second S before release; the late S after is too
 }
 
@@ -109,9 +108,9 @@ TEST(FrameJoin, FramesLeaveInOrderBehindALateOne) {
 }
 
 TEST(FrameJoin, SkippedDetectionsReleaseAtOnceAndReuseTheLastBoxes) {
-    expect_table(run({{0, 'S', 0}, {10, 'D', 0}, {33, 'S', 1}, {35, 'D', 1, Arrival::kSkipped}},
-                     200),
-                 {{0, 10, 0}, {1, 35, 0}});
+    expect_table(
+        run({{0, 'S', 0}, {10, 'D', 0}, {33, 'S', 1}, {35, 'D', 1, Arrival::kSkipped}}, 200),
+        {{0, 10, 0}, {1, 35, 0}});
 }
 
 TEST(FrameJoin, SkippedSegmentsAreReleasedAtOnceMarkedSo) {
