@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The whole pipeline live on this machine: capture at the sequence's 30 Hz (REALTIME, the
-# default sequence twice), SLAM, geometric segmentation, YOLOv5s at 320x320 and fusion over shared
-# memory; detection on every frame, on every third frame, and stopped. Prints per mode: the rate
+# The whole pipeline live on this machine: SLAM, geometric segmentation, YOLOv5s at 320x320 and
+# fusion under the supervisor (dfsup, which also starts RouDi), fed by capture at the sequence's
+# 30 Hz (REALTIME, the default sequence twice) over shared memory; detection on every frame, on
+# every third frame, and stopped. Prints per mode: the rate
 # of object_segments and camera_pose, the latency from capture to object_segments (df_tap delay),
 # and how many frames fusion published with their own, reused or no detections.
 # Usage: tests/bench/run_pipeline_bench.sh [SEQUENCE] (default build/data/default);
@@ -11,25 +12,30 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 bin="$root/build/bin"
 seq="${1:-$root/build/data/default}"
 out="$(mktemp -d /tmp/df_pipeline_bench.XXXXXX)"
-state="$out/roudi"
-bash "$root/tests/integration/roudi_ctl.sh" start "$root/deploy/config/roudi.toml" "$state" >/dev/null
-trap 'bash "$root/tests/integration/roudi_ctl.sh" stop "$root/deploy/config/roudi.toml" "$state" >/dev/null' EXIT
+sup="$root/deploy/dfsup --run-dir $out/run"
+trap '$sup down >/dev/null 2>&1 || true' EXIT
 run_mode() {  # name every_nth (0 = no detector)
   local name=$1 nth=$2 ns="bench_$1_$$" pids=()
+  {
+    echo "name: \"bench-$name\""
+    echo 'service { name: "slam" binary: "df_slam" args: ["run", "--set", "dds { ns: \"${DF_NS}\" }"] }'
+    echo 'service { name: "geoseg" binary: "df_geoseg" args: ["--set", "dds { ns: \"${DF_NS}\" }"] }'
+    [ "$nth" -gt 0 ] && echo "service { name: \"detector\" binary: \"df_detector\" config: \"deploy/config/detector_default.pbtxt\" args: [\"--set\", \"dds { ns: \\\"\${DF_NS}\\\" }\", \"--set\", \"every_nth: $nth\"] }"
+    echo 'service { name: "fusion" binary: "df_fusion" args: ["--set", "dds { ns: \"${DF_NS}\" }"] }'
+  } >"$out/$name.pbtxt"
+  $sup up "$out/$name.pbtxt" --var "DF_NS=$ns" >/dev/null
   "$bin/df_tap" delay "$ns/object_segments" --idle 3 >"$out/$name.delay" 2>&1 & pids+=($!)
   "$bin/df_tap" hz "$ns/object_segments" --idle 3 >"$out/$name.hz" 2>&1 & pids+=($!)
   "$bin/df_tap" hz "$ns/camera_pose" --idle 3 >"$out/$name.pose_hz" 2>&1 & pids+=($!)
-  "$bin/df_slam" run --set "dds { ns: \"$ns\" }" >"$out/$name.slam.log" 2>&1 & pids+=($!)
-  "$bin/df_geoseg" --set "dds { ns: \"$ns\" }" >"$out/$name.geoseg.log" 2>&1 & pids+=($!)
-  if [ "$nth" -gt 0 ]; then
-    "$bin/df_detector" --config "$root/deploy/config/detector_default.pbtxt" \
-      --set "dds { ns: \"$ns\" }" --set "every_nth: $nth" >"$out/$name.detector.log" 2>&1 & pids+=($!)
-  fi
-  "$bin/df_fusion" --set "dds { ns: \"$ns\" }" >"$out/$name.fusion.log" 2>&1 & pids+=($!)
-  sleep 3  # discovery, model load
+  sleep 6  # supervisor start, discovery, model load
   "$bin/df_capture" "$seq" --config "$root/deploy/config/capture_realtime.pbtxt" \
     --set "dds { ns: \"$ns\" }" --set "loops: 2" >"$out/$name.capture.log" 2>&1
   for p in "${pids[@]}"; do wait "$p" || true; done
+  $sup wait fusion --timeout 30 >/dev/null || true
+  for s in slam geoseg detector fusion; do
+    [ -f "$out/run/logs/$s.log" ] && cp "$out/run/logs/$s.log" "$out/$name.$s.log"
+  done
+  $sup down >/dev/null
   echo "== detection: $name"
   grep -h "average rate" "$out/$name.hz" | tail -1 | sed 's/^/object_segments: /'
   grep -h "average rate" "$out/$name.pose_hz" | tail -1 | sed 's/^/camera_pose:     /'
