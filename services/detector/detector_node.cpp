@@ -1,5 +1,6 @@
 #include "detector_node.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -117,6 +118,14 @@ Result<std::unique_ptr<BoxSource>> open_source(const config::DetectorServiceConf
     d.input_height = c.input_height();
     d.score_threshold = c.score_threshold();
     d.nms_iou_threshold = c.nms_iou_threshold();
+    const auto& names = detect::coco_names();
+    for (const auto& [name, threshold] : c.class_score_thresholds()) {
+        if (d.names_path.empty() && std::find(names.begin(), names.end(), name) == names.end()) {
+            return error(StatusCode::kInvalidArgument,
+                         "class_score_thresholds: '" + name + "' is not a COCO class name");
+        }
+        d.class_score_thresholds[name] = threshold;
+    }
     d.threads = c.threads();
     auto detector = detect::open_detector(d);
     if (!detector) return detector.status();

@@ -21,6 +21,19 @@ lines = [l for l in open(os.path.join(src, "associations.txt")) if not l.startsw
 open(os.path.join(dst, "associations.txt"), "w").writelines(lines[20:20 + n])
 PY
 
+# Bad configurations are named, before any DDS traffic.
+expect_named() {  # what-to-find, command...
+  local want=$1; shift
+  if "$@" >"$TMP/bad.out" 2>&1; then fail "accepted: $*"; fi
+  grep -q "$want" "$TMP/bad.out" || fail "'$want' not named: $(cat "$TMP/bad.out")"
+}
+expect_named "persn" "$BIN/df_detector" --set 'class_score_thresholds { key: "persn" value: 0.5 }'
+expect_named "nonsense" "$BIN/df_detector" --set 'model: "nonsense"'
+expect_named "sim_sequence" "$BIN/df_detector" --set 'model: "simulated"' --set 'sim_sequence: "/nowhere"'
+expect_named "input" "$BIN/df_detector" --set 'model: "simulated"' --set "sim_sequence: \"$TMP/seq\"" --set 'input: "depth"'
+expect_named "karr" "$BIN/df_fusion" --set 'rigid_classes: "karr"'
+pass "bad detector and fusion configurations are named"
+
 run_pipeline() {  # name, with_detector, [detector input: frames | color_small]
   local name=$1 input=${3:-frames}
   "$BIN/df_tap" echo "$NS/object_segments" -n $N --items 3 >"$TMP/$name.echo" 2>"$TMP/$name.echo.err" &
