@@ -37,6 +37,36 @@ Result<dds::Participant> make_participant(const config::DdsConfig& dds);
 /// Monotonic clock, nanoseconds (for timing and deadlines; not comparable across processes).
 int64_t steady_ns();
 
+/// When a service's input stream has ended: its writers came and went with nothing left to
+/// handle, or (idle_exit_s > 0) no input arrived for that long after the first.
+class StreamEnd {
+  public:
+    explicit StreamEnd(double idle_exit_s) : idle_exit_s_(idle_exit_s) {}
+    /// An input arrived.
+    void on_input() {
+        started_ = true;
+        last_ns_ = steady_ns();
+    }
+    /// After each wake-up: `writers` now matched, `drained` true when nothing waits. Returns
+    /// why the stream ended ("the frame writers left", "no frame for idle_exit_s") or nullptr.
+    const char* check(uint32_t writers, bool drained) {
+        if (writers > 0) had_writers_ = true;
+        if (!started_) return nullptr;
+        if (had_writers_ && writers == 0 && drained) return "the frame writers left";
+        if (idle_exit_s_ > 0 && static_cast<double>(steady_ns() - last_ns_) * 1e-9 > idle_exit_s_) {
+            return "no frame for idle_exit_s";
+        }
+        return nullptr;
+    }
+    /// Ready for the next stream.
+    void reset() { had_writers_ = started_ = false; }
+
+  private:
+    double idle_exit_s_;
+    bool had_writers_ = false, started_ = false;
+    int64_t last_ns_ = 0;
+};
+
 /// The common tail of a service's main(): makes the participant from `dds`, the node with
 /// `create(participant)` (a Result<std::unique_ptr<Node>>), runs it; logs any error. Returns the
 /// process exit code: 0, or 1 on failure.

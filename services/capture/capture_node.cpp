@@ -40,9 +40,9 @@ Result<std::unique_ptr<CaptureNode>> CaptureNode::create(const config::CaptureCo
     auto waitset = dds::WaitSet::create(participant);
     if (!waitset) return waitset.status();
     DF_RETURN_IF_ERROR(waitset->attach_reader(acks->get()));
-    auto node = std::unique_ptr<CaptureNode>(new CaptureNode(config, std::move(source),
-                                                             std::move(*frames), std::move(*status),
-                                                             std::move(*acks), std::move(*waitset)));
+    auto node = std::unique_ptr<CaptureNode>(
+        new CaptureNode(config, std::move(source), std::move(*frames), std::move(*status),
+                        std::move(*acks), std::move(*waitset)));
     if (config.color_small_width() > 0) {
         auto small = dds::Writer<df_msg_CompressedImage>::create(
             participant, dds::topic_name(ns, dds::topics::kColorSmall));
@@ -53,8 +53,8 @@ Result<std::unique_ptr<CaptureNode>> CaptureNode::create(const config::CaptureCo
 }
 
 void CaptureNode::publish_small(const io::RgbdImage& image, const df_msg_Header& header) {
-    const int width = static_cast<int>(std::min<uint32_t>(config_.color_small_width(),
-                                                          static_cast<uint32_t>(image.rgb.cols)));
+    const int width = static_cast<int>(
+        std::min<uint32_t>(config_.color_small_width(), static_cast<uint32_t>(image.rgb.cols)));
     const int height = std::max(1, image.rgb.rows * width / std::max(1, image.rgb.cols));
     cv::Mat small, bgr;
     cv::resize(image.rgb, small, cv::Size(width, height), 0, 0, cv::INTER_AREA);
@@ -77,7 +77,8 @@ void CaptureNode::publish_small(const io::RgbdImage& image, const df_msg_Header&
     m.data._length = static_cast<uint32_t>(jpeg.size());
     m.data._maximum = static_cast<uint32_t>(jpeg.size());
     m.data._release = false;
-    if (Status s = small_->write_copy(m); !s) log::warn("seq=", header.seq, " color_small: ", s.message());
+    if (Status s = small_->write_copy(m); !s)
+        log::warn("seq=", header.seq, " color_small: ", s.message());
 }
 
 CaptureNode::CaptureNode(const config::CaptureConfig& config,

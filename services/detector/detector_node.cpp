@@ -282,16 +282,14 @@ uint32_t DetectorNode::matched_writers() const {
 Status DetectorNode::run() {
     log::info(source_->describe(), "; waiting for frames on ",
               frames_ ? frames_->topic() : small_->topic());
-    bool had_writers = false, started = false;
-    int64_t last_ns = now_ns();
+    service::StreamEnd stream(config_.idle_exit_s());
     while (!service::stop_requested()) {
         auto woke = waitset_.wait(DDS_MSECS(100));
         if (!woke) return woke.status();
         std::vector<Pending> pending;
         DF_RETURN_IF_ERROR(take(&pending));
         for (size_t i = 0; i < pending.size(); ++i) {
-            started = true;
-            last_ns = now_ns();
+            stream.on_input();
             if (i + 1 < pending.size()) {  // stay current: answer the older ones skipped
                 ++skipped_;
                 answer(pending[i].header, df_msg_FRAME_SKIPPED, {}, pending[i].source_width,
@@ -300,16 +298,11 @@ Status DetectorNode::run() {
                 handle(pending[i]);
             }
         }
-        const uint32_t writers = matched_writers();
-        if (writers > 0) had_writers = true;
-        const bool gone = started && had_writers && writers == 0 && pending.empty();
-        const bool idle = started && config_.idle_exit_s() > 0 &&
-                          static_cast<double>(now_ns() - last_ns) * 1e-9 > config_.idle_exit_s();
-        if (gone || idle) {
-            log::info("stream ended: ", detected_, " frames detected, ", skipped_, " skipped, ",
-                      failed_, " failed");
+        if (const char* why = stream.check(matched_writers(), pending.empty())) {
+            log::info("stream ended (", why, "): ", detected_, " frames detected, ", skipped_,
+                      " skipped, ", failed_, " failed");
             if (config_.exit_at_end()) return Status::ok();
-            had_writers = started = false;
+            stream.reset();
             detected_ = skipped_ = failed_ = 0;
         }
     }

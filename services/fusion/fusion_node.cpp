@@ -244,8 +244,7 @@ void FusionNode::publish(const sync::JoinDecision& d) {
 Status FusionNode::run() {
     log::info("joining ", segments_in_.topic(), " and ", detections_in_.topic(), " (deadline ",
               config_.detection_deadline_ms(), " ms)");
-    bool had_writers = false, started = false;
-    int64_t last_ns = now_ns();
+    service::StreamEnd stream(config_.idle_exit_s());
     while (!service::stop_requested()) {
         const int64_t now = now_ns();
         int64_t wait_ns = 100'000'000;
@@ -260,25 +259,19 @@ Status FusionNode::run() {
                                     ? now_ns() + settings_.join.detection_deadline_ns
                                     : now_ns();
         for (const sync::JoinDecision& d : join_.poll(poll_at)) {
-            started = true;
-            last_ns = now_ns();
+            stream.on_input();
             publish(d);
         }
-        const uint32_t writers = segments_in_.matched_writers();
-        if (writers > 0) had_writers = true;
-        const bool gone = had_writers && writers == 0 && join_.pending() == 0 && started;
-        const bool idle = started && config_.idle_exit_s() > 0 &&
-                          static_cast<double>(now_ns() - last_ns) * 1e-9 > config_.idle_exit_s();
-        if (gone || idle) {
+        if (const char* why = stream.check(segments_in_.matched_writers(), join_.pending() == 0)) {
             std::string classes;
             for (const auto& [name, n] : instances_by_class_) {
                 classes += (classes.empty() ? "" : ", ") + name + " " + std::to_string(n);
             }
-            log::info("stream ended: ", published_, " frames published (", with_own_,
+            log::info("stream ended (", why, "): ", published_, " frames published (", with_own_,
                       " with their own detections, ", with_reused_, " with reused ones, ", without_,
                       " without); instances: ", classes.empty() ? "none" : classes);
             if (config_.exit_at_end()) return Status::ok();
-            had_writers = started = false;
+            stream.reset();
             published_ = with_own_ = with_reused_ = without_ = 0;
             instances_by_class_.clear();
         }

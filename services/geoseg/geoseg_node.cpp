@@ -165,8 +165,7 @@ void GeosegNode::handle(const io::RgbdImage& image, const df_msg_Header& header)
 
 Status GeosegNode::run() {
     log::info("waiting for frames on ", frames_.topic());
-    bool had_writers = false, started = false;
-    int64_t last_frame_ns = now_ns();
+    service::StreamEnd stream(config_.idle_exit_s());
     while (!service::stop_requested()) {
         auto woke = waitset_.wait(DDS_MSECS(100));
         if (!woke) return woke.status();
@@ -179,8 +178,7 @@ Status GeosegNode::run() {
             16);
         if (!taken) return taken.status();
         for (size_t i = 0; i < pending.size(); ++i) {
-            started = true;
-            last_frame_ns = now_ns();
+            stream.on_input();
             if (i + 1 < pending.size()) {
                 ++skipped_;
                 answer(pending[i].header, df_msg_FRAME_SKIPPED);
@@ -188,17 +186,11 @@ Status GeosegNode::run() {
                 handle(pending[i].image, pending[i].header);
             }
         }
-        const uint32_t writers = frames_.matched_writers();
-        if (writers > 0) had_writers = true;
-        const bool gone = started && had_writers && writers == 0 && pending.empty();
-        const bool idle =
-            started && config_.idle_exit_s() > 0 &&
-            static_cast<double>(now_ns() - last_frame_ns) * 1e-9 > config_.idle_exit_s();
-        if (gone || idle) {
-            log::info("stream ended (", gone ? "the frame writers left" : "idle", "): ", processed_,
-                      " frames segmented, ", skipped_, " skipped, ", failed_, " failed");
+        if (const char* why = stream.check(frames_.matched_writers(), pending.empty())) {
+            log::info("stream ended (", why, "): ", processed_, " frames segmented, ", skipped_,
+                      " skipped, ", failed_, " failed");
             if (config_.exit_at_end()) return Status::ok();
-            had_writers = started = false;
+            stream.reset();
             processed_ = skipped_ = failed_ = 0;
         }
     }

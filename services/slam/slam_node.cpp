@@ -18,8 +18,13 @@ int64_t now_ns() {
 
 df_msg_Pose to_msg(const Eigen::Isometry3d& pose) {
     const Eigen::Quaterniond q(pose.linear());
-    return df_msg_Pose{pose.translation().x(), pose.translation().y(), pose.translation().z(),
-                       q.x(), q.y(), q.z(), q.w()};
+    return df_msg_Pose{pose.translation().x(),
+                       pose.translation().y(),
+                       pose.translation().z(),
+                       q.x(),
+                       q.y(),
+                       q.z(),
+                       q.w()};
 }
 
 struct Pending {
@@ -34,8 +39,8 @@ Result<std::unique_ptr<SlamNode>> SlamNode::create(const config::SlamServiceConf
                                                    dds::Participant& participant,
                                                    std::atomic<bool>* save_request) {
     const std::string& ns = config.dds().ns();
-    auto frames = dds::Reader<df_msg_RgbdFrame>::create(
-        participant, dds::topic_name(ns, dds::topics::kFrames));
+    auto frames = dds::Reader<df_msg_RgbdFrame>::create(participant,
+                                                        dds::topic_name(ns, dds::topics::kFrames));
     if (!frames) return frames.status();
     auto poses = dds::Writer<df_msg_CameraPose>::create(
         participant, dds::topic_name(ns, dds::topics::kCameraPose));
@@ -51,10 +56,10 @@ Result<std::unique_ptr<SlamNode>> SlamNode::create(const config::SlamServiceConf
                                                   std::move(*waitset), save_request));
 }
 
-SlamNode::SlamNode(const config::SlamServiceConfig& config,
-                   const slam::SystemConfig& system_config, dds::Reader<df_msg_RgbdFrame> frames,
-                   dds::Writer<df_msg_CameraPose> poses, dds::Writer<df_msg_StageStatus> status,
-                   dds::WaitSet waitset, std::atomic<bool>* save_request)
+SlamNode::SlamNode(const config::SlamServiceConfig& config, const slam::SystemConfig& system_config,
+                   dds::Reader<df_msg_RgbdFrame> frames, dds::Writer<df_msg_CameraPose> poses,
+                   dds::Writer<df_msg_StageStatus> status, dds::WaitSet waitset,
+                   std::atomic<bool>* save_request)
     : config_(config),
       system_config_(system_config),
       frames_(std::move(frames)),
@@ -127,9 +132,9 @@ void SlamNode::handle(const io::RgbdImage& image, const df_msg_Header& header) {
     const uint32_t every = config_.output().log_every();
     if (every > 0 && header.seq % every == 0) {
         log::info("seq=", header.seq, " ", slam::to_string(t.state), " inliers=", t.inlier_ratio,
-                  " icp_rmse_mm=", t.icp_rmse_m * 1000, " surfels=", report->fusion.total, " fused=", report->fusion.fused,
-                      " created=", report->fusion.created, " removed=",
-                      report->fusion.removed + report->fusion.removed_free_space,
+                  " icp_rmse_mm=", t.icp_rmse_m * 1000, " surfels=", report->fusion.total,
+                  " fused=", report->fusion.fused, " created=", report->fusion.created,
+                  " removed=", report->fusion.removed + report->fusion.removed_free_space,
                   " total_ms=", report->times.total_ms);
     }
 
@@ -160,7 +165,7 @@ void SlamNode::handle(const io::RgbdImage& image, const df_msg_Header& header) {
 
 Status SlamNode::run() {
     log::info("waiting for frames on ", frames_.topic());
-    bool had_writers = false;
+    service::StreamEnd stream(config_.idle_exit_s());
     while (!service::stop_requested()) {
         auto woke = waitset_.wait(DDS_MSECS(100));
         if (!woke) return woke.status();
@@ -176,6 +181,7 @@ Status SlamNode::run() {
         for (size_t i = 0; i < pending.size(); ++i) {
             if (!system_) DF_RETURN_IF_ERROR(start_stream());
             last_frame_ns_ = now_ns();
+            stream.on_input();
             if (i + 1 < pending.size()) {
                 ++skipped_;
                 answer_unprocessed(pending[i].header, df_msg_FRAME_SKIPPED);
@@ -190,20 +196,8 @@ Status SlamNode::run() {
             else
                 log::info("outputs written on request to ", outputs_->dir());
         }
-        const uint32_t writers = frames_.matched_writers();
-        if (writers > 0) had_writers = true;
-        bool ended = false;
-        const char* why = "";
-        if (system_ && had_writers && writers == 0 && pending.empty()) {
-            ended = true;
-            why = "the frame writers left";
-        } else if (system_ && config_.idle_exit_s() > 0 &&
-                   static_cast<double>(now_ns() - last_frame_ns_) * 1e-9 > config_.idle_exit_s()) {
-            ended = true;
-            why = "no frame for idle_exit_s";
-        }
-        if (ended) {
-            had_writers = false;
+        if (const char* why = stream.check(frames_.matched_writers(), pending.empty())) {
+            stream.reset();
             DF_RETURN_IF_ERROR(end_stream(why));
             if (config_.exit_at_end()) return Status::ok();
         }
