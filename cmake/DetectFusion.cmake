@@ -22,8 +22,40 @@ function(df_add_gtest name)
   if(NOT ARG_TIMEOUT)
     set(ARG_TIMEOUT 120)
   endif()
+  if(DF_SANITIZE)
+    math(EXPR ARG_TIMEOUT "${ARG_TIMEOUT} * 5")  # sanitized code runs 2-5x slower
+  endif()
   set_tests_properties(${name} PROPERTIES TIMEOUT ${ARG_TIMEOUT})
   if(ARG_LABELS)
     set_tests_properties(${name} PROPERTIES LABELS "${ARG_LABELS}")
   endif()
 endfunction()
+
+# Sanitizers for every target: -DDF_SANITIZE=address,undefined (any -fsanitize= list; empty =
+# none). Findings abort the process (no recovery), so a test with a finding fails.
+set(DF_SANITIZE "" CACHE STRING "sanitizers for every target, e.g. address,undefined")
+if(DF_SANITIZE)
+  add_compile_options(-fsanitize=${DF_SANITIZE} -fno-sanitize-recover=all -fno-omit-frame-pointer)
+  add_link_options(-fsanitize=${DF_SANITIZE})
+  # The sanitizer runtimes are linked statically into each executable (the compiler's default).
+  # Not -shared-libasan: with -fsanitize=fuzzer clang puts libstdc++ ahead of the shared ASan
+  # runtime in the executable's library list, and the fuzz targets then abort at start with "ASan
+  # runtime does not come first in initial library list". Shared libraries are left with the ASan
+  # symbols undefined, resolved from the executable that loads them (common/io/openni).
+endif()
+
+# libFuzzer targets (fuzz/): with clang by default. Every library is built with coverage
+# instrumentation for the fuzzer (-fsanitize=fuzzer-no-link); the fuzz executables link libFuzzer.
+if(CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+  set(df_fuzz_default ON)
+else()
+  set(df_fuzz_default OFF)
+endif()
+option(DF_FUZZ "Build the libFuzzer targets of fuzz/ (needs clang)" ${df_fuzz_default})
+if(DF_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+    message(FATAL_ERROR "DF_FUZZ=ON needs clang (libFuzzer): -DCMAKE_CXX_COMPILER=clang++ "
+                        "-DCMAKE_C_COMPILER=clang")
+  endif()
+  add_compile_options(-fsanitize=fuzzer-no-link)
+endif()

@@ -5,20 +5,33 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
-if [ "$(id -u)" -eq 0 ]; then bash deploy/setup.sh; else sudo bash deploy/setup.sh; fi
-bash deploy/build.sh
 export DF_OUT="${DF_OUT:-$root/out/main}"
-export DF_DATA="${DF_DATA:-$root/build/data/default}"
+export DF_BUILD="${DF_BUILD:-$root/build}"
+export DF_DATA="${DF_DATA:-$DF_BUILD/data/default}"
 run_dir="$DF_OUT/run"
 slam_out="$DF_OUT/slam"
+# Check first, delete later: a second main.sh refuses before it touches any output of the first.
+# The lock on fd 9 lasts as long as this script (the pipeline's programs do not inherit it).
+mkdir -p "$DF_OUT"
+exec 9>>"$DF_OUT/.main.lock"
+if ! flock -n 9; then
+  echo "main.sh: another main.sh (pid $(cat "$DF_OUT/.main.pid" 2>/dev/null || echo '?')) is running" \
+    "with DF_OUT=$DF_OUT; wait for it or stop it (Ctrl-C there)" >&2
+  exit 1
+fi
+echo $$ > "$DF_OUT/.main.pid"
+trap 'echo "main.sh: interrupted; stopping the pipeline" >&2; exit 130' INT TERM
+if [ -x /usr/bin/python3 ]; then deploy/dfsup --run-dir "$run_dir" check 9>&-; fi
+if [ "$(id -u)" -eq 0 ]; then bash deploy/setup.sh; else sudo bash deploy/setup.sh; fi
+bash deploy/build.sh
 rm -rf "$slam_out"
-deploy/dfsup --run-dir "$run_dir" up deploy/pipelines/default.pbtxt
-trap 'deploy/dfsup --run-dir "$run_dir" down >/dev/null 2>&1 || true' EXIT
+deploy/dfsup --run-dir "$run_dir" up deploy/pipelines/default.pbtxt 9>&-
+trap 'deploy/dfsup --run-dir "$run_dir" down >/dev/null || true' EXIT
 status=0
 deploy/dfsup --run-dir "$run_dir" wait slam --timeout 900 || status=$?
 deploy/dfsup --run-dir "$run_dir" wait fusion --timeout 60 || true
 echo
-echo "== $(basename "$DF_DATA"): capture -> slam, geoseg, detector (YOLOv5s), fusion; shared memory =="
+echo "== $(basename "$DF_DATA"): capture -> geoseg, detector (YOLOv5s), fusion -> slam (dynamics on: persons, objects and unknown movers left out of the static map); shared memory =="
 grep -E "done:|bad frame" "$run_dir/logs/capture.log" | sed 's/^[^]]*\] //' || true
 grep -E "stream ended" "$run_dir/logs/geoseg.log" "$run_dir/logs/detector.log" \
   "$run_dir/logs/fusion.log" | sed 's/^.*logs\///; s/\.log:[^]]*\] /: /' || true
@@ -29,7 +42,7 @@ if [ ! -s "$slam_out/trajectory.txt" ]; then
 fi
 echo
 if [ -f "$DF_DATA/groundtruth.txt" ]; then
-  build/bin/df_eval ate "$DF_DATA/groundtruth.txt" "$slam_out/trajectory.txt" \
+  "$DF_BUILD"/bin/df_eval ate "$DF_DATA/groundtruth.txt" "$slam_out/trajectory.txt" \
     --json "$slam_out/ate.json" --plot "$slam_out/ate.png" || status=$?
 fi
 /usr/bin/python3 - "$slam_out/summary.json" <<'PY'
@@ -48,21 +61,25 @@ echo "map:        $slam_out/map.ply (open in MeshLab, CloudCompare or Open3D)"
 echo "plots:      $slam_out/ate.png; figures: $slam_out/ate.json, $slam_out/summary.json"
 echo "logs:       $run_dir/logs/"
 
-# The static SLAM core above tracks everything it sees, moving objects included. Until the
-# segmentation services exist, show what masks of the moving things buy: the same frames in
-# one process with the sequence's ground-truth instance masks (simulated segmentation).
-if [ -d "$DF_DATA/instances" ]; then
-  masked_out="$DF_OUT/slam_gt_masks"
-  rm -rf "$masked_out"
+# Beside it, what the dynamic handling buys: the same frames in one process with the static core
+# alone (dynamics off: every pixel tracked and fused, moving things included), and, for
+# generated sequences, with the ground-truth instance masks (SIMULATED segmentation, the bound).
+offline_run() {  # NAME TITLE ARGS...
+  local out="$DF_OUT/$1" title="$2"
+  shift 2
+  rm -rf "$out"
   echo
-  echo "== the same frames with SIMULATED segmentation: ground-truth instance masks (df_slam offline --masks) =="
-  if build/bin/df_slam offline "$DF_DATA" -o "$masked_out" --masks "$DF_DATA/instances" \
-      >"$masked_out.log" 2>&1; then
-    grep -E "^processed|^ATE" "$masked_out.log" || true
-    echo "map: $masked_out/map.ply; log: $masked_out.log"
+  echo "== the same frames, $title (df_slam offline $*) =="
+  if "$DF_BUILD"/bin/df_slam offline "$DF_DATA" -o "$out" "$@" >"$out.log" 2>&1; then
+    grep -E "^processed|^ATE" "$out.log" || true
   else
-    echo "the masked run failed; see $masked_out.log" >&2
+    echo "the run failed; see $out.log" >&2
     status=1
   fi
+}
+offline_run slam_dynamics_off "dynamics off: the static core alone" --dynamics off
+if [ -d "$DF_DATA/instances" ]; then
+  offline_run slam_gt_masks "SIMULATED segmentation: ground-truth instance masks" \
+    --masks "$DF_DATA/instances"
 fi
 exit $status

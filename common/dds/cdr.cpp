@@ -35,6 +35,11 @@ Status from_cdr(const dds_topic_descriptor_t* desc, const uint8_t* data, size_t 
                       "unsupported CDR encapsulation " + std::to_string(data[0]) + "," +
                           std::to_string(data[1]) + " (expected 0,1: CDR little endian)");
     }
+    if (size == 4) {
+        return Status(StatusCode::kInvalidArgument,
+                      std::string("CDR sample has no data after its header (a ") +
+                          desc->m_typename + " has at least its Header)");
+    }
     // Validate first (normalize checks bounds and sequence lengths); it works in place.
     std::vector<char> body(reinterpret_cast<const char*>(data) + 4,
                            reinterpret_cast<const char*>(data) + size);

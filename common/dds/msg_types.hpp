@@ -51,6 +51,8 @@ inline constexpr const char* kDetections = "detections";
 inline constexpr const char* kGeometricSegments = "geometric_segments";
 inline constexpr const char* kObjectSegments = "object_segments";
 inline constexpr const char* kCameraPose = "camera_pose";
+/// df::msg::ObjectSegments: what the SLAM service left out of the static map per frame.
+inline constexpr const char* kInvalidMask = "invalid_mask";
 inline constexpr const char* kObjectPoses = "object_poses";
 inline constexpr const char* kStageStatus = "stage_status";
 }  // namespace topics

@@ -4,6 +4,7 @@
 #include <sys/file.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cstdlib>
 
 #include "core/log.hpp"
@@ -42,17 +43,77 @@ bool roudi_running(const std::string& lock_file) {
 
 namespace {
 
-std::string domain_xml(const ParticipantConfig& config, bool shm) {
-    std::string xml = "<CycloneDDS><Domain Id=\"any\">";
-    if (shm) {
+bool valid_name(const std::string& name) {
+    if (name.empty()) return false;
+    for (const char c : name) {
+        const bool ok = std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' ||
+                        c == '_' || c == ':';
+        if (!ok) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+Result<std::string> domain_xml(const ParticipantConfig& config, bool shared_memory) {
+    for (const auto& i : config.interfaces) {
+        if (!valid_name(i)) {
+            return Status(StatusCode::kInvalidArgument,
+                          "dds.interfaces: bad interface name '" + i +
+                              "' (expected names like eth0, letters, digits and .-_: only)");
+        }
+    }
+    for (const auto& p : config.peers) {
+        if (!valid_name(p)) {
+            return Status(StatusCode::kInvalidArgument,
+                          "dds.peers: bad peer '" + p +
+                              "' (expected an address or host name like 192.0.2.10)");
+        }
+    }
+    if (config.max_participants_per_host < 1 || config.max_participants_per_host > 1000) {
+        return Status(StatusCode::kInvalidArgument,
+                      "max_participants_per_host " +
+                          std::to_string(config.max_participants_per_host) +
+                          " out of range [1, 1000]");
+    }
+    if (config.lease_ms < 0 || config.lease_ms > 3600000) {
+        return Status(StatusCode::kInvalidArgument,
+                      "participant lease " + std::to_string(config.lease_ms) +
+                          " ms out of range [0, 3600000] (0: Cyclone's default, 10 s)");
+    }
+    const bool loopback = config.interfaces.empty();
+    std::vector<std::string> peers = config.peers;
+    if (loopback && peers.empty()) peers.push_back("127.0.0.1");
+    std::string xml = "<CycloneDDS><Domain Id=\"any\"><General><Interfaces>";
+    if (loopback) {
+        xml += "<NetworkInterface name=\"lo\"/>";
+    } else {
+        for (const auto& i : config.interfaces) xml += "<NetworkInterface name=\"" + i + "\"/>";
+    }
+    xml += "</Interfaces>";
+    if (!peers.empty()) xml += "<AllowMulticast>false</AllowMulticast>";
+    xml += "</General>";
+    xml += "<Discovery>";
+    // A killed peer is noticed when its lease runs out (Cyclone's default: 10 s); extra_xml
+    // that sets its own lease wins.
+    if (config.lease_ms > 0 && config.extra_xml.find("LeaseDuration") == std::string::npos) {
+        xml += "<LeaseDuration>" + std::to_string(config.lease_ms) + "ms</LeaseDuration>";
+    }
+    if (!peers.empty()) {
+        xml += "<ParticipantIndex>auto</ParticipantIndex><MaxAutoParticipantIndex>" +
+               std::to_string(config.max_participants_per_host - 1) +
+               "</MaxAutoParticipantIndex><Peers>";
+        for (const auto& p : peers) xml += "<Peer address=\"" + p + "\"/>";
+        xml += "</Peers>";
+    }
+    xml += "</Discovery>";
+    if (shared_memory) {
         xml += "<SharedMemory><Enable>true</Enable><LogLevel>warn</LogLevel></SharedMemory>";
     }
     xml += config.extra_xml;
     xml += "</Domain></CycloneDDS>";
     return xml;
 }
-
-}  // namespace
 
 Result<Participant> Participant::create(const ParticipantConfig& config) {
     const char* user_uri = std::getenv("CYCLONEDDS_URI");
@@ -76,7 +137,9 @@ Result<Participant> Participant::create(const ParticipantConfig& config) {
                               " not held): start it with 'iox-roudi -c deploy/config/roudi.toml' "
                               "or use transport udp");
         }
-        const std::string xml = domain_xml(config, effective == Transport::kSharedMemory);
+        auto made = domain_xml(config, effective == Transport::kSharedMemory);
+        if (!made) return made.status();
+        const std::string& xml = *made;
         const dds_entity_t d = dds_create_domain(config.domain_id, xml.c_str());
         if (d < 0) {
             return check(d, "creating DDS domain " + std::to_string(config.domain_id) +
@@ -88,8 +151,15 @@ Result<Participant> Participant::create(const ParticipantConfig& config) {
     if (p < 0) {
         return check(p, "creating DDS participant in domain " + std::to_string(config.domain_id));
     }
+    std::string network = "loopback only";
+    if (user_uri != nullptr && *user_uri != '\0') {
+        network = "as CYCLONEDDS_URI says";
+    } else if (!config.interfaces.empty()) {
+        network = "interfaces";
+        for (const auto& i : config.interfaces) network += " " + i;
+    }
     log::info("DDS: participant in domain ", config.domain_id, ", transport ",
-              to_string(effective));
+              to_string(effective), ", network ", network);
     return Participant(std::move(domain), Entity(p), effective);
 }
 

@@ -8,7 +8,15 @@
 ///    Cyclone's 60 s wait and abort;
 ///  - kUdp: network only;
 ///  - kAuto (default): shared memory when RouDi is running, else UDP.
+///
+/// Exposure (unless CYCLONEDDS_URI is set): by default the participant uses the loopback
+/// interface only, with multicast off and unicast discovery of 127.0.0.1, so a pipeline on one
+/// host is not discovered from the LAN and advertises no LAN address. Multi-host use opts in by
+/// naming interfaces (and peers). Cyclone 0.10 still binds its two unicast receive sockets to
+/// 0.0.0.0 (it has no option to bind them to an address): they advertise and answer only on
+/// loopback, and deploy/config/cyclonedds.xml is the same configuration for Cyclone's own tools.
 #include <string>
+#include <vector>
 
 #include "core/status.hpp"
 #include "dds/entity.hpp"
@@ -24,8 +32,20 @@ const char* to_string(Transport t);
 struct ParticipantConfig {
     uint32_t domain_id = 0;
     Transport transport = Transport::kAuto;
-    /// Extra Cyclone XML put inside <Domain> (e.g. <General><Interfaces>...,
-    /// <Discovery><Peers>...).
+    /// Network interfaces by name ("eth0"); empty: loopback only ("lo"), no multicast.
+    std::vector<std::string> interfaces;
+    /// Unicast discovery peers (addresses or host names). Empty with loopback: 127.0.0.1; empty
+    /// with named interfaces: multicast discovery on them. Non-empty: multicast off.
+    std::vector<std::string> peers;
+    /// Participants one host can hold per domain under unicast discovery (Cyclone's
+    /// MaxAutoParticipantIndex + 1; ports 7410 + 2 i for domain 0).
+    int max_participants_per_host = 120;
+    /// Participant lease, milliseconds: a peer process killed without a goodbye is noticed
+    /// (its readers and writers unmatched) this long after its last message. Cyclone sends its
+    /// discovery heartbeat every 4/5 of the lease. 0: Cyclone's default (10 s). Ignored when
+    /// extra_xml sets <LeaseDuration>.
+    int lease_ms = 2000;
+    /// Extra Cyclone XML put inside <Domain> (e.g. <Tracing>...).
     std::string extra_xml;
     /// Lock file RouDi holds while it runs (iceoryx 2.0).
     std::string roudi_lock_file = "/tmp/roudi.lock";
@@ -33,6 +53,10 @@ struct ParticipantConfig {
 
 /// True when a RouDi daemon holds its lock file (it is running on this machine).
 bool roudi_running(const std::string& lock_file = "/tmp/roudi.lock");
+
+/// The Cyclone XML the participant uses without CYCLONEDDS_URI (checked names: letters, digits
+/// and ".-_:" only, so no XML can be injected through a name).
+Result<std::string> domain_xml(const ParticipantConfig& config, bool shared_memory);
 
 class Participant {
   public:

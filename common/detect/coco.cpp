@@ -1,4 +1,6 @@
 /// COCO names, default model locations and the DetectorConfig helpers.
+#include <unistd.h>
+
 #include <cstdlib>
 
 #include "detect/detector.hpp"
@@ -31,15 +33,36 @@ const std::vector<std::string>& coco_names() {
     return names;
 }
 
-std::string default_models_dir() {
+std::vector<std::string> models_search_path() {
+    std::vector<std::string> dirs;
     if (const char* dir = std::getenv("DF_MODELS_DIR"); dir != nullptr && *dir != '\0') {
-        return dir;
+        dirs.emplace_back(dir);
     }
-    const char* home = std::getenv("HOME");
-    return std::string(home != nullptr ? home : ".") + "/.cache/detectfusion/models";
+    if (const char* home = std::getenv("HOME"); home != nullptr && *home != '\0') {
+        dirs.push_back(std::string(home) + "/.cache/detectfusion/models");
+    }
+    dirs.emplace_back(kSystemModelsDir);
+    return dirs;
 }
 
-std::string default_yolov5_dir() { return default_models_dir() + "/yolov5s"; }
+std::string default_models_dir() {
+    const auto dirs = models_search_path();
+    for (const auto& d : dirs) {
+        if (::access(d.c_str(), R_OK | X_OK) == 0) return d;
+    }
+    return std::getenv("DF_MODELS_DIR") != nullptr && *std::getenv("DF_MODELS_DIR") != '\0'
+               ? dirs.front()
+               : std::string(kSystemModelsDir);
+}
+
+std::string default_yolov5_dir() {
+    for (const auto& d : models_search_path()) {
+        const std::string folder = d + "/yolov5s";
+        // Readable by this user: a model under another user's home does not count.
+        if (::access((folder + "/model.json").c_str(), R_OK) == 0) return folder;
+    }
+    return default_models_dir() + "/yolov5s";
+}
 
 ClassKind DetectorConfig::kind_of(const std::string& class_name) const {
     if (non_rigid_classes.count(class_name) != 0) return ClassKind::kNonRigid;

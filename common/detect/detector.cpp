@@ -108,7 +108,11 @@ class DnnDetector final : public Detector {
             }
             DF_RETURN_IF_ERROR(s);
         } catch (const cv::Exception& e) {
-            return error(StatusCode::kInternal, std::string("detect: OpenCV failed: ") + e.what());
+            // e.err, not e.what(): one line a user can read, not OpenCV's multi-line dump.
+            return error(StatusCode::kInternal, "detect: OpenCV failed in " + e.func + ": " +
+                                                    e.err +
+                                                    " (a model whose weights do not fit its graph, "
+                                                    "or an input size it does not take)");
         }
         return finish(std::move(candidates), lb, image.size());
     }
@@ -175,11 +179,28 @@ Status check_darknet_weights_size(cv::dnn::Net& net, const DetectorConfig& c) {
 }
 
 /// Reads the network; OpenCV's exceptions become kInvalidArgument naming the file.
+/// A fraction option (a score or an overlap): in [0, 1], NaN refused.
+Status check_fraction(const std::string& name, float value) {
+    if (value >= 0.f && value <= 1.f) return Status::ok();
+    return error(StatusCode::kInvalidArgument,
+                 name + " is " + std::to_string(value) + ", allowed: >= 0 and <= 1");
+}
+
 Result<cv::dnn::Net> load_net(const DetectorConfig& c, std::vector<std::string>* outputs) {
+    DF_RETURN_IF_ERROR(check_fraction("score_threshold", c.score_threshold));
+    DF_RETURN_IF_ERROR(check_fraction("nms_iou_threshold", c.nms_iou_threshold));
+    for (const auto& [name, t] : c.class_score_thresholds) {
+        DF_RETURN_IF_ERROR(check_fraction("class_score_thresholds[" + name + "]", t));
+    }
     const std::string size = std::to_string(c.input_width) + "x" + std::to_string(c.input_height);
-    if (c.input_width <= 0 || c.input_height <= 0 || c.input_width % 32 || c.input_height % 32)
+    // Above kMaxInputSide OpenCV fails deep inside the network with a dump of its internals.
+    if (c.input_width <= 0 || c.input_height <= 0 || c.input_width % 32 || c.input_height % 32 ||
+        c.input_width > DetectorConfig::kMaxInputSide ||
+        c.input_height > DetectorConfig::kMaxInputSide)
         return error(StatusCode::kInvalidArgument,
-                     "input size " + size + " is not a positive multiple of 32");
+                     "input size " + size + " (input_width x input_height) must be a multiple of " +
+                         "32 from 32 to " + std::to_string(DetectorConfig::kMaxInputSide) +
+                         " px per side");
     std::string path = c.model_path;
     try {
         switch (c.kind) {

@@ -24,10 +24,16 @@ enum class ModelKind {
 /// Channel order of the 8-bit 3-channel images given to Detector::detect.
 enum class ColorOrder { kBgr, kRgb };
 
-/// The folder that holds downloaded models: $DF_MODELS_DIR if set, else
-/// $HOME/.cache/detectfusion/models (where `bash deploy/setup.sh` puts them).
+/// Where `bash deploy/setup.sh` installs models for every user (unless DF_MODELS_DIR is set).
+inline constexpr const char* kSystemModelsDir = "/usr/local/share/detectfusion/models";
+/// Folders searched for models, in order: $DF_MODELS_DIR (if set),
+/// $HOME/.cache/detectfusion/models, kSystemModelsDir.
+std::vector<std::string> models_search_path();
+/// The first folder of models_search_path() this user can read (else $DF_MODELS_DIR if set,
+/// else kSystemModelsDir).
 std::string default_models_dir();
-/// Default YOLOv5s folder: default_models_dir() + "/yolov5s".
+/// Default YOLOv5s folder: the first <dir>/yolov5s of models_search_path() whose model.json
+/// this user can read (else default_models_dir() + "/yolov5s", which the load error names).
 std::string default_yolov5_dir();
 
 struct DetectorConfig {
@@ -45,6 +51,8 @@ struct DetectorConfig {
     /// input size is fixed in the file need the size they were exported with.
     int input_width = 640;
     int input_height = 640;
+    /// Largest input side accepted (OpenCV's network fails without a usable message beyond).
+    static constexpr int kMaxInputSide = 2048;
 
     /// Score (objectness x class probability, 0..1) a detection needs, unless its class name has
     /// an entry in class_score_thresholds.

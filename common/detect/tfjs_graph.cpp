@@ -198,11 +198,26 @@ Result<TfjsGraph> convert(const fs::path& folder, const json& model, int width, 
                              json_path + ": weight " + w.at("name").get<std::string>() + " is " +
                                  ref.dtype + " or quantized; only float32/int32 are supported");
             }
-            ref.count = 1;
+            // Sizes are checked before multiplying: a negative or huge dimension would wrap the
+            // byte count around ("needs 18446743919119700504 bytes").
+            constexpr int64_t kMaxWeightValues = int64_t{1} << 30;  // 4 GiB of float32
+            const std::string name = w.at("name").get<std::string>();
+            int64_t count = 1;
+            std::string shape_text;
             for (const auto& d : w.at("shape")) {
-                ref.shape.push_back(as_int(d));
-                ref.count *= as_int(d);
+                const int64_t size = as_int(d);
+                shape_text += (shape_text.empty() ? "" : ",") + std::to_string(size);
+                if (size < 0 || (size > 0 && count > kMaxWeightValues / size)) {
+                    return error(StatusCode::kInvalidArgument,
+                                 json_path + ": weight " + name + " has shape [" + shape_text +
+                                     "...]: each dimension must be >= 0 and the weight at most " +
+                                     std::to_string(kMaxWeightValues) +
+                                     " values (a corrupt or edited model.json)");
+                }
+                count *= size;
+                ref.shape.push_back(size);
             }
+            ref.count = static_cast<size_t>(count);
             ref.offset = offset;
             offset += 4 * ref.count;
             weights[w.at("name").get<std::string>()] = ref;

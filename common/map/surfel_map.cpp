@@ -50,6 +50,25 @@ bool finite3(const cv::Vec3f& v) {
 
 SurfelMap::SurfelMap(SurfelMapConfig config) : config_(config) {}
 
+Status SurfelMap::restore(std::vector<Surfel> surfels, uint64_t total_rejected_by_capacity) {
+    if (surfels.size() > config_.max_surfels) {
+        return error(StatusCode::kInvalidArgument,
+                     std::to_string(surfels.size()) + " surfels exceed max_surfels " +
+                         std::to_string(config_.max_surfels));
+    }
+    for (size_t i = 0; i < surfels.size(); ++i) {
+        const Surfel& s = surfels[i];
+        if (!s.position.allFinite() || !s.normal.allFinite() || !std::isfinite(s.radius) ||
+            !std::isfinite(s.confidence)) {
+            return error(StatusCode::kInvalidArgument,
+                         "surfel " + std::to_string(i) + " has a non-finite field");
+        }
+    }
+    surfels_ = std::move(surfels);
+    total_rejected_by_capacity_ = total_rejected_by_capacity;
+    return Status::ok();
+}
+
 size_t SurfelMap::stable_count() const {
     return static_cast<size_t>(std::count_if(surfels_.begin(), surfels_.end(),
                                              [this](const Surfel& s) { return is_stable(s); }));

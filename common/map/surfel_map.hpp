@@ -193,6 +193,11 @@ class SurfelMap {
                         int height, int frame_index, const PredictionConfig& config,
                         ModelPrediction& out) const;
 
+    /// Replaces the surfels (a checkpoint's, in their storage order) and the count of
+    /// observations rejected by capacity. kInvalidArgument when there are more than
+    /// config.max_surfels or one has a non-finite position, normal or radius.
+    Status restore(std::vector<Surfel> surfels, uint64_t total_rejected_by_capacity);
+
     size_t size() const { return surfels_.size(); }
     size_t stable_count() const;
     const std::vector<Surfel>& surfels() const { return surfels_; }

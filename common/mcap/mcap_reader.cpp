@@ -325,6 +325,15 @@ Status Reader::load_chunk(const DataUnit& unit, LoadedRecords& loaded) const {
             return fail(unit.offset,
                         "chunk uncompressed size " + str(h.uncompressed_size) + " is implausible");
         }
+        // A zstd block decompresses to at most 128 KiB and takes at least 3 bytes, so the
+        // compressed bytes bound the size: a chunk claiming more is refused before its buffer is
+        // allocated (found by fuzz_mcap: 1 KiB claiming 4 GiB).
+        const uint64_t zstd_bound = (h.records_size / 3 + 1) * (128ull << 10);
+        if (h.uncompressed_size > zstd_bound) {
+            return fail(unit.offset, "zstd chunk of " + str(h.records_size) +
+                                         " compressed bytes cannot hold the " +
+                                         str(h.uncompressed_size) + " bytes it says");
+        }
         const unsigned long long frame_size = ZSTD_getFrameContentSize(records, h.records_size);
         if (frame_size == ZSTD_CONTENTSIZE_ERROR) {
             return fail(unit.offset, "zstd chunk does not start with a zstd frame");

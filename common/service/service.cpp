@@ -4,6 +4,7 @@
 #include <csignal>
 
 #include "config/config_loader.hpp"
+#include "config/validate.hpp"
 #include "core/log.hpp"
 
 namespace df::service {
@@ -29,7 +30,10 @@ void add_config_flags(CLI::App& app, ConfigFlags* flags) {
 }
 
 bool load_config(const ConfigFlags& flags, google::protobuf::Message* config) {
-    const Status s = config::load(flags.config_path, flags.overrides, config);
+    Status s = config::load(flags.config_path, flags.overrides, config);
+    // Every option against the range its .proto declares, before anything is started.
+    if (s) s = config::check(*config).with_context("invalid option (" +
+                                                   config->GetTypeName() + ")");
     if (!s) {
         log::error(s.message());
         return false;
@@ -45,6 +49,16 @@ Result<dds::Participant> make_participant(const config::DdsConfig& dds) {
     pc.domain_id = dds.domain_id();
     pc.transport = *transport;
     pc.extra_xml = dds.extra_xml();
+    std::string name;
+    for (const char c : dds.interfaces() + ",") {
+        if (c == ',' || c == ' ') {
+            if (!name.empty()) pc.interfaces.push_back(name);
+            name.clear();
+        } else {
+            name += c;
+        }
+    }
+    pc.peers.assign(dds.peers().begin(), dds.peers().end());
     return dds::Participant::create(pc);
 }
 

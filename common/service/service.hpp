@@ -38,10 +38,13 @@ Result<dds::Participant> make_participant(const config::DdsConfig& dds);
 int64_t steady_ns();
 
 /// When a service's input stream has ended: its writers came and went with nothing left to
-/// handle, or (idle_exit_s > 0) no input arrived for that long after the first.
+/// handle, or (idle_exit_s > 0) no input arrived for that long after the first. With
+/// writers_grace_s > 0 the writers must stay gone that long (a supervisor restarts a killed
+/// writer within it, and the stream goes on).
 class StreamEnd {
   public:
-    explicit StreamEnd(double idle_exit_s) : idle_exit_s_(idle_exit_s) {}
+    explicit StreamEnd(double idle_exit_s, double writers_grace_s = 0)
+        : idle_exit_s_(idle_exit_s), writers_grace_s_(writers_grace_s) {}
     /// An input arrived.
     void on_input() {
         started_ = true;
@@ -50,20 +53,32 @@ class StreamEnd {
     /// After each wake-up: `writers` now matched, `drained` true when nothing waits. Returns
     /// why the stream ended ("the frame writers left", "no frame for idle_exit_s") or nullptr.
     const char* check(uint32_t writers, bool drained) {
-        if (writers > 0) had_writers_ = true;
+        if (writers > 0) {
+            had_writers_ = true;
+            gone_since_ns_ = 0;
+        }
         if (!started_) return nullptr;
-        if (had_writers_ && writers == 0 && drained) return "the frame writers left";
+        if (had_writers_ && writers == 0 && drained) {
+            if (gone_since_ns_ == 0) gone_since_ns_ = steady_ns();
+            const double gone_s = static_cast<double>(steady_ns() - gone_since_ns_) * 1e-9;
+            if (gone_s >= writers_grace_s_) return "the frame writers left";
+        }
         if (idle_exit_s_ > 0 && static_cast<double>(steady_ns() - last_ns_) * 1e-9 > idle_exit_s_) {
             return "no frame for idle_exit_s";
         }
         return nullptr;
     }
     /// Ready for the next stream.
-    void reset() { had_writers_ = started_ = false; }
+    void reset() {
+        had_writers_ = started_ = false;
+        gone_since_ns_ = 0;
+    }
 
   private:
     double idle_exit_s_;
+    double writers_grace_s_;
     bool had_writers_ = false, started_ = false;
+    int64_t gone_since_ns_ = 0;  // steady_ns() when the writers were first seen gone
     int64_t last_ns_ = 0;
 };
 

@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "slam/pose.hpp"
@@ -203,6 +204,7 @@ std::string validate(const TrackingConfig& c) {
     positive("icp_max_distance_m", c.icp_max_distance_m);
     positive("icp_max_normal_sin", c.icp_max_normal_sin);
     positive("icp_weight", c.icp_weight);
+    positive("icp_weight_coarse", c.icp_weight_coarse);
     positive("rgb_max_depth_difference_m", c.rgb_max_depth_difference_m);
     positive("icp_huber_m", c.icp_huber_m);
     positive("rgb_huber", c.rgb_huber);
@@ -240,7 +242,6 @@ Result<TrackingResult> track(const Frame& frame, const ModelView& model,
     const std::vector<tracker_detail::ModelLevel> model_levels =
         tracker_detail::build_model_pyramid(model, levels, config.use_rgb);
     const std::vector<cv::Mat> masks = tracker_detail::build_mask_pyramid(mask, levels);
-    const double w = config.icp_weight;
 
     // Inputs projected onto SE(3) first: inverse() below is only exact for rigid poses.
     const Eigen::Isometry3d reference = orthonormalized(world_T_reference);
@@ -254,6 +255,8 @@ Result<TrackingResult> track(const Frame& frame, const ModelView& model,
         if (iterations == 0 && l != finest) continue;
         const FrameLevel& level = frame.levels[li];
         const int step = config.pixel_step[li];
+        // ICP's wide basin first (coarse levels), both terms as equals at the finest.
+        const double w = l == finest ? config.icp_weight : config.icp_weight_coarse;
         // With no iterations anywhere, the finest level is evaluated once, not updated.
         for (int it = 0; it < std::max(iterations, 1); ++it) {
             const tracker_detail::PoseF pose = to_float(reference_T_camera);
@@ -270,8 +273,16 @@ Result<TrackingResult> track(const Frame& frame, const ModelView& model,
                 // Residuals in units of their Huber thresholds make the terms commensurable;
                 // then E = E_rgb + w^2 E_icp, whose Gauss-Newton step needs w^2 on both A and b
                 // (w on b alone would shrink the step by 1/w where ICP dominates).
-                const double rgb_scale = 1.0 / (double(config.rgb_huber) * config.rgb_huber);
-                const double icp_scale = w * w / (double(config.icp_huber_m) * config.icp_huber_m);
+                double rgb_var = double(config.rgb_huber) * config.rgb_huber;
+                double icp_var = double(config.icp_huber_m) * config.icp_huber_m;
+                if (config.adaptive_weights && rgb.used > 0 && icp.used > 0) {
+                    // Each term in units of its own robust residual spread (this iteration's
+                    // Huber-weighted mean square), floored at a tenth of its threshold.
+                    rgb_var = std::max(rgb.weighted_sq / rgb.used, rgb_var * 0.01);
+                    icp_var = std::max(icp.weighted_sq / icp.used, icp_var * 0.01);
+                }
+                const double rgb_scale = 1.0 / rgb_var;
+                const double icp_scale = w * w / icp_var;
                 add_scaled(rgb, rgb_scale, rgb_scale, a, b);
                 add_scaled(icp, icp_scale, icp_scale, a, b);
             } else {
@@ -321,6 +332,7 @@ Result<TrackingResult> track(const Frame& frame, const ModelView& model,
     result.condition = figures.condition;
 
     const Eigen::Isometry3d estimate = orthonormalized(reference * reference_T_camera);
+    result.estimate = estimate;
     result.reason = lost_reason(figures, result, initial.inverse() * estimate, config);
     if (result.reason.empty()) {
         result.state = TrackingState::kOk;
@@ -330,6 +342,80 @@ Result<TrackingResult> track(const Frame& frame, const ModelView& model,
         result.world_T_camera = initial;
     }
     return result;
+}
+
+Result<cv::Mat> residual_image(const Frame& frame, const ModelView& model,
+                               const Eigen::Isometry3d& world_T_reference,
+                               const Eigen::Isometry3d& world_T_camera,
+                               const TrackingConfig& config, cv::Mat* photometric) {
+    TrackingConfig no_rgb = config;
+    no_rgb.use_rgb = false;  // the colour image is not needed here
+    if (std::string bad = validate_inputs(frame, model, cv::Mat(), no_rgb); !bad.empty()) {
+        return error(StatusCode::kInvalidArgument,
+                     "residuals of frame " + std::to_string(frame.index) + ": " + bad);
+    }
+    const FrameLevel& level = frame.levels[0];
+    const tracker_detail::PoseF pose =
+        to_float(orthonormalized(world_T_reference).inverse() * orthonormalized(world_T_camera));
+    const float* R = pose.r;
+    const float* t = pose.t;
+    const io::Intrinsics& k = level.intrinsics;
+    const float fx = static_cast<float>(k.fx), fy = static_cast<float>(k.fy);
+    const float cx = static_cast<float>(k.cx), cy = static_cast<float>(k.cy);
+    const float max_z = config.max_depth_m > 0.f ? config.max_depth_m
+                                                 : std::numeric_limits<float>::infinity();
+    const float max_sin2 = config.icp_max_normal_sin * config.icp_max_normal_sin;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    cv::Mat out(level.height(), level.width(), CV_32F, cv::Scalar(nan));
+    const bool with_photo = photometric != nullptr && model.colour.type() == CV_8UC3 &&
+                            model.colour.size() == model.vertex.size();
+    if (photometric != nullptr) {
+        photometric->create(level.height(), level.width(), CV_32F);
+        photometric->setTo(cv::Scalar(nan));
+    }
+    cv::parallel_for_(cv::Range(0, level.height()), [&](const cv::Range& range) {
+        for (int y = range.start; y < range.end; ++y) {
+            const cv::Vec3f* fv = level.vertex.ptr<cv::Vec3f>(y);
+            const cv::Vec3f* fn = level.normal.ptr<cv::Vec3f>(y);
+            float* o = out.ptr<float>(y);
+            for (int x = 0; x < level.width(); ++x) {
+                const cv::Vec3f& p = fv[x];
+                if (!(p[2] > 0.f) || !(p[2] <= max_z) || !is_valid_normal(fn[x])) continue;
+                const float qx = R[0] * p[0] + R[1] * p[1] + R[2] * p[2] + t[0];
+                const float qy = R[3] * p[0] + R[4] * p[1] + R[5] * p[2] + t[1];
+                const float qz = R[6] * p[0] + R[7] * p[1] + R[8] * p[2] + t[2];
+                if (!(qz > 0.f)) continue;
+                const int u = static_cast<int>(std::lround(fx * qx / qz + cx));
+                const int v = static_cast<int>(std::lround(fy * qy / qz + cy));
+                if (u < 0 || v < 0 || u >= model.vertex.cols || v >= model.vertex.rows) continue;
+                const cv::Vec3f& m = model.vertex.at<cv::Vec3f>(v, u);
+                const cv::Vec3f& mn = model.normal.at<cv::Vec3f>(v, u);
+                if (!(m[2] > 0.f) || !is_valid_normal(mn)) continue;
+                const cv::Vec3f& n = fn[x];
+                const float nx = R[0] * n[0] + R[1] * n[1] + R[2] * n[2];
+                const float ny = R[3] * n[0] + R[4] * n[1] + R[5] * n[2];
+                const float nz = R[6] * n[0] + R[7] * n[1] + R[8] * n[2];
+                const float dx = qx - m[0], dy = qy - m[1], dz = qz - m[2];
+                const float sx = ny * mn[2] - nz * mn[1], sy = nz * mn[0] - nx * mn[2],
+                            sz = nx * mn[1] - ny * mn[0];
+                const bool agree = nx * mn[0] + ny * mn[1] + nz * mn[2] > 0.f &&
+                                   sx * sx + sy * sy + sz * sz <= max_sin2;
+                const float r = agree ? std::fabs(mn[0] * dx + mn[1] * dy + mn[2] * dz)
+                                      : std::sqrt(dx * dx + dy * dy + dz * dz);
+                const float q2 = qx * qx + qy * qy + qz * qz, m2 = m.dot(m);
+                o[x] = q2 >= m2 ? r : -r;
+                if (with_photo) {
+                    const cv::Vec3b& c = model.colour.at<cv::Vec3b>(v, u);
+                    if (c[0] != 0 || c[1] != 0 || c[2] != 0) {
+                        const float model_i = 0.299f * c[0] + 0.587f * c[1] + 0.114f * c[2];
+                        photometric->at<float>(y, x) =
+                            std::fabs(level.intensity.at<float>(y, x) - model_i);
+                    }
+                }
+            }
+        }
+    });
+    return out;
 }
 
 }  // namespace df::slam

@@ -38,12 +38,25 @@ struct TrackingConfig {
     /// Whether the photometric term is used at all (false: ICP only).
     bool use_rgb = true;
     /// Weight w of the ICP term in A = A_rgb + w^2 A_icp, b = b_rgb + w^2 b_icp, i.e. the
-    /// Gauss-Newton step of E_rgb + w^2 E_icp. Each term's residuals are first divided by its
-    /// Huber threshold (icp_huber_m, rgb_huber) so the two are commensurable: raw, the
-    /// photometric normal equations (intensity units) outweigh the ICP ones (metres) by ~1e4.
-    /// (ElasticFusion's code scales b_icp by w only; with ICP dominating that shrinks the step
-    /// by 1/w in its directions, so w^2 is used on both.)
-    float icp_weight = 10.f;
+    /// Gauss-Newton step of E_rgb + w^2 E_icp, at the finest level tracked. Each term's
+    /// residuals are first divided by its Huber threshold (icp_huber_m, rgb_huber) so the two
+    /// are commensurable: raw, the photometric normal equations (intensity units) outweigh the
+    /// ICP ones (metres) by ~1e4. (ElasticFusion's code scales b_icp by w only; with ICP
+    /// dominating that shrinks the step by 1/w in its directions, so w^2 is used on both.)
+    /// ElasticFusion's w = 10 counts an ICP pixel 100 times a photometric one in these units;
+    /// 1 (equal) at the finest level, with icp_weight_coarse below it, was the most accurate on
+    /// every sequence of the study in docs/dynamics.md ("Weighting ICP against intensity").
+    float icp_weight = 1.f;
+    /// w at the coarser levels: ICP's basin of convergence is wide, the photometric term's is
+    /// about one wavelength of the texture, so a fast motion is first brought close by ICP
+    /// (a 4 cm, 2.5 deg step over a texture of 8 cm wavelength converged 9 cm off with w = 1 at
+    /// every level).
+    float icp_weight_coarse = 10.f;
+    /// Divide each term by its own residual spread (the Huber-weighted mean square of this
+    /// iteration's residuals, floored at a tenth of its threshold) instead of its Huber
+    /// threshold squared: the maximum-likelihood weighting of two Gaussian terms. Measured less
+    /// accurate than the fixed thresholds with w = 1 (7-Scenes 2.37 against 2.18 cm), so off.
+    bool adaptive_weights = false;
     /// Minimum gradient magnitude (intensity units per pixel, Sobel/8) of a pixel used by the
     /// photometric term, per level finest first.
     std::vector<float> rgb_min_gradient = {5.f, 3.f, 1.f};
@@ -114,6 +127,9 @@ struct TrackingResult {
     std::string reason;
     /// The estimate (kOk) or the initial guess (kLost).
     Eigen::Isometry3d world_T_camera = Eigen::Isometry3d::Identity();
+    /// What Gauss-Newton converged to, also when a check rejected it (kLost): a two-stage
+    /// tracker computes its residuals there (moving objects can fail the inlier checks).
+    Eigen::Isometry3d estimate = Eigen::Isometry3d::Identity();
     /// Figures at the finest level tracked, after the last iteration.
     float inlier_ratio = 0.f;  ///< ICP inliers / valid frame pixels landing on the model
     int inliers = 0;           ///< ICP inliers
@@ -135,5 +151,20 @@ Result<TrackingResult> track(const Frame& frame, const ModelView& model,
                              const Eigen::Isometry3d& world_T_reference,
                              const Eigen::Isometry3d& initial_world_T_camera, const cv::Mat& mask,
                              const TrackingConfig& config);
+
+/// Per-pixel geometric residual of `frame` (level 0) against `model` (predicted at
+/// world_T_reference) with the frame at world_T_camera: what motion segmentation clusters.
+/// CV_32F of the frame's level-0 size, metres, signed: |point-to-plane distance| to the model
+/// vertex the pixel projects onto when their normals agree (TrackingConfig::icp_max_normal_sin),
+/// else the point-to-point distance; positive when the frame's point is farther from the camera
+/// than the model's (the frame sees through the model), negative when nearer. NaN where there
+/// is no residual: no valid frame vertex or normal, no model there, or beyond
+/// TrackingConfig::max_depth_m. kInvalidArgument as track() for bad inputs.
+/// `photometric` (optional): CV_32F, |frame intensity - model intensity| (0..255) at the same
+/// association, NaN where there is no residual or the model has no colour.
+Result<cv::Mat> residual_image(const Frame& frame, const ModelView& model,
+                               const Eigen::Isometry3d& world_T_reference,
+                               const Eigen::Isometry3d& world_T_camera,
+                               const TrackingConfig& config, cv::Mat* photometric = nullptr);
 
 }  // namespace df::slam

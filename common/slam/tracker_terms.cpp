@@ -205,6 +205,7 @@ void NormalEquations::add(const NormalEquations& other) {
     for (size_t i = 0; i < a.size(); ++i) a[i] += other.a[i];
     for (size_t i = 0; i < b.size(); ++i) b[i] += other.b[i];
     residual_sq += other.residual_sq;
+    weighted_sq += other.weighted_sq;
     used += other.used;
 }
 
@@ -326,8 +327,10 @@ NormalEquations accumulate_icp(const FrameLevel& frame, const cv::Mat& mask, int
                                     qy * mn[2] - qz * mn[1],
                                     qz * mn[0] - qx * mn[2],
                                     qx * mn[1] - qy * mn[0]};
-                rows.push(j, r, huber_weight(r, huber));
+                const float hw = huber_weight(r, huber);
+                rows.push(j, r, hw);
                 eq.residual_sq += static_cast<double>(r) * r;
+                eq.weighted_sq += static_cast<double>(hw) * r * r;
                 ++eq.used;
             }
             rows.flush(eq);
@@ -405,8 +408,10 @@ NormalEquations accumulate_rgb(const ModelLevel& model, int step, const FrameLev
                                     hy * p[2] - hz * p[1],
                                     hz * p[0] - hx * p[2],
                                     hx * p[1] - hy * p[0]};
-                rows.push(j, r, huber_weight(r, huber));
+                const float hw = huber_weight(r, huber);
+                rows.push(j, r, hw);
                 eq.residual_sq += static_cast<double>(r) * r;
+                eq.weighted_sq += static_cast<double>(hw) * r * r;
                 ++eq.used;
             }
             rows.flush(eq);

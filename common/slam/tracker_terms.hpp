@@ -21,6 +21,7 @@ struct NormalEquations {
     std::array<double, 21> a{};
     std::array<double, 6> b{};
     double residual_sq = 0.0;  ///< sum of the unweighted squared residuals of the pixels used
+    double weighted_sq = 0.0;  ///< sum of their Huber-weighted squares (w r^2: outliers count |r|)
     int used = 0;              ///< pixels that contributed (ICP: inliers)
 
     void add(const NormalEquations& other);

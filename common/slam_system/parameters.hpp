@@ -1,6 +1,7 @@
 #pragma once
-/// The parameters of SystemConfig by dotted name ("tracking.icp_max_distance_m"), with unit
-/// and a one-line meaning, for configuration files, command-line overrides, logs and docs.
+/// The parameters of SystemConfig by dotted name ("tracking.icp_max_distance_m") with a one-line
+/// meaning, for configuration files, command-line overrides, logs and docs. Units and allowed
+/// ranges are declared once, in common/config/slam.proto (`df_slam params` prints them).
 #include <cstddef>
 #include <string>
 #include <variant>
@@ -13,7 +14,6 @@ namespace df::slam {
 
 struct Parameter {
     std::string name;  ///< "<section>.<field>", sections: preprocess tracking map prediction system
-    std::string unit;  ///< "m", "rad", "px", "frames", "" ...
     std::string meaning;
     std::variant<float*, double*, int*, bool*, size_t*, std::vector<int>*, std::vector<float>*>
         value;  ///< points into the SystemConfig the table was made for
@@ -29,7 +29,7 @@ std::string value_text(const Parameter& parameter);
 /// parameter and the text when it does not parse.
 Status set_value(const Parameter& parameter, const std::string& text);
 
-/// "name = value  [unit]" per line, every parameter, in table order.
+/// "name = value" per line, every parameter, in table order.
 std::string describe(const SystemConfig& config);
 
 }  // namespace df::slam

@@ -27,6 +27,9 @@ std::vector<std::pair<std::string, double>> StageTimes::steps() const {
     return {{"preprocess", preprocess_ms},
             {"tracking", tracking_ms},
             {"fusion", fusion_ms},
+            {"stage1", stage1_ms},
+            {"motion", motion_ms},
+            {"stage2", stage2_ms},
             {"prediction", prediction_ms},
             {"total", total_ms}};
 }
@@ -39,30 +42,77 @@ Result<SlamSystem> SlamSystem::create(const SystemConfig& config,
     return SlamSystem(config, initial_world_T_camera);
 }
 
-SlamSystem::SlamSystem(const SystemConfig& config, const Eigen::Isometry3d& initial)
-    : config_(config), map_(config.map), world_T_camera_(orthonormalized(initial)) {}
-
-void SlamSystem::downscale(const io::RgbdImage& in, const cv::Mat& mask_in, io::RgbdImage* out,
-                           cv::Mat* mask_out) const {
-    const int f = config_.system.processing_downscale;
-    *out = in;
-    *mask_out = mask_in;
-    if (f == 1) return;
-    const cv::Size size(in.depth.cols / f, in.depth.rows / f);
-    // Nearest neighbour: depth is never averaged across an edge or with invalid pixels.
-    cv::resize(in.depth, out->depth, size, 0, 0, cv::INTER_NEAREST);
-    cv::resize(in.rgb, out->rgb, size, 0, 0, cv::INTER_AREA);
-    if (!mask_in.empty()) cv::resize(mask_in, *mask_out, size, 0, 0, cv::INTER_NEAREST);
-    // Nearest neighbour of an f x f block picks its top-left pixel: pixel centre u' maps to u = f u'.
-    out->intrinsics.fx = in.intrinsics.fx / f;
-    out->intrinsics.fy = in.intrinsics.fy / f;
-    out->intrinsics.cx = in.intrinsics.cx / f;
-    out->intrinsics.cy = in.intrinsics.cy / f;
+Result<SlamSystem> SlamSystem::restore(const SystemConfig& config, SystemState state) {
+    if (!state.world_T_camera.matrix().allFinite() || !state.last_motion.matrix().allFinite()) {
+        return error(StatusCode::kInvalidArgument, "restored pose is not finite");
+    }
+    auto system = create(config, state.world_T_camera);
+    if (!system) return system.status();
+    DF_RETURN_IF_ERROR(system->static_.map().restore(std::move(state.surfels),
+                                                     state.surfels_rejected_by_capacity));
+    system->last_motion_ = orthonormalized(state.last_motion);
+    system->trajectory_ = std::move(state.trajectory);
+    system->frames_ = state.frames;
+    system->lost_frames_ = state.lost_frames;
+    system->map_time_ = state.map_time;
+    system->started_ = state.started;
+    system->lost_ = state.lost;
+    system->input_size_ = cv::Size(state.input_width, state.input_height);
+    if (state.started) system->static_.mark_model_stale();
+    return system;
 }
 
-Result<FrameReport> SlamSystem::process(const io::RgbdImage& image, const cv::Mat& mask) {
+SystemState SlamSystem::state() const {
+    SystemState s;
+    s.surfels = static_.map().surfels();
+    s.surfels_rejected_by_capacity = static_.map().total_rejected_by_capacity();
+    s.world_T_camera = world_T_camera_;
+    s.last_motion = last_motion_;
+    s.trajectory = trajectory_;
+    s.frames = frames_;
+    s.lost_frames = lost_frames_;
+    s.map_time = map_time_;
+    s.started = started_;
+    s.lost = lost_;
+    s.input_width = input_size_.width;
+    s.input_height = input_size_.height;
+    return s;
+}
+
+SlamSystem::SlamSystem(const SystemConfig& config, const Eigen::Isometry3d& initial)
+    : config_(config), static_(0, config.map), world_T_camera_(orthonormalized(initial)) {}
+
+Result<FrameReport> SlamSystem::process(const io::RgbdImage& image,
+                                        const dynamics::FrameSegments& segments) {
     const auto start = std::chrono::steady_clock::now();
     const std::string where = "frame " + std::to_string(frames_);
+    FrameReport report;
+    report.frame_number = frames_;
+    report.sensor_ns = image.sensor_ns;
+    Input in;
+    DF_RETURN_IF_ERROR(prepare(image, segments, where, &in, &report));
+    if (!started_) {
+        report.first = true;
+        report.tracking.state = TrackingState::kOk;
+        report.tracking.world_T_camera = world_T_camera_;
+        report.stage1 = report.tracking;
+        report.invalid = dynamics::combine(in.segments, in.instance_ids, cv::Mat(), cv::Mat(),
+                                           config_.dynamics.invalid);
+    } else {
+        DF_RETURN_IF_ERROR(track_static(in, &report).with_context(where));
+    }
+    update_pose(image.sensor_ns, &report);
+    input_size_ = image.depth.size();
+    if (report.tracking.state == TrackingState::kOk || config_.system.fuse_when_lost) {
+        DF_RETURN_IF_ERROR(map_static(in, &report).with_context(where));
+    }
+    ++frames_;
+    report.times.total_ms = ms_since(start);
+    return report;
+}
+
+Status SlamSystem::prepare(const io::RgbdImage& image, const dynamics::FrameSegments& segments,
+                           const std::string& where, Input* in, FrameReport* report) const {
     if (image.depth.empty() || image.rgb.empty()) {
         return error(StatusCode::kInvalidArgument, where + ": empty depth or colour image");
     }
@@ -73,111 +123,167 @@ Result<FrameReport> SlamSystem::process(const io::RgbdImage& image, const cv::Ma
                          std::to_string(input_size_.width) + "x" +
                          std::to_string(input_size_.height));
     }
-    if (!mask.empty() && (mask.type() != CV_8UC1 || mask.size() != image.depth.size())) {
-        return error(StatusCode::kInvalidArgument,
-                     where + ": mask must be CV_8UC1 of the image's size, got " +
-                         cv::typeToString(mask.type()) + " " + std::to_string(mask.cols) + "x" +
-                         std::to_string(mask.rows));
-    }
-    if (image.depth.cols % config_.system.processing_downscale != 0 ||
-        image.depth.rows % config_.system.processing_downscale != 0) {
+    const int f = config_.system.processing_downscale;
+    if (image.depth.cols % f != 0 || image.depth.rows % f != 0) {
         return error(StatusCode::kInvalidArgument,
                      where + ": image size not divisible by system.processing_downscale");
     }
-    io::RgbdImage work;
-    cv::Mat work_mask;
-    downscale(image, mask, &work, &work_mask);
-
-    FrameReport report;
-    report.frame_number = frames_;
-    report.sensor_ns = image.sensor_ns;
-    auto t = std::chrono::steady_clock::now();
-    Result<Frame> frame = preprocess(work, config_.preprocess);
-    if (!frame) return frame.status().with_context(where);
-    report.times.preprocess_ms = ms_since(t);
-
-    if (!started_) {
-        report.first = true;
-        report.tracking.state = TrackingState::kOk;
-        report.tracking.world_T_camera = world_T_camera_;
-    } else {
-        t = std::chrono::steady_clock::now();
-        Eigen::Isometry3d guess = world_T_camera_;
-        if (config_.system.constant_velocity && !lost_) {
-            guess = orthonormalized(world_T_camera_ * last_motion_);
+    const bool use = config_.dynamics.use_segments || config_.dynamics.motion_segmentation;
+    if (use) {
+        if (Status s = dynamics::check(segments, image.depth.size(), where); !s) {
+            report->segments_error = s.message();
+        } else {
+            in->segments = dynamics::downscale(segments, f);
         }
-        Result<TrackingResult> tracked =
-            track(*frame, model_, world_T_model_, guess, work_mask, config_.tracking);
-        if (!tracked) return tracked.status().with_context(where);
-        report.tracking = *tracked;
-        report.times.tracking_ms = ms_since(t);
     }
-    const bool ok = report.tracking.state == TrackingState::kOk;
-    if (ok) {
-        if (!report.first) {
-            last_motion_ =
-                orthonormalized(world_T_camera_.inverse() * report.tracking.world_T_camera);
+    in->image = image;
+    if (f != 1) {
+        const cv::Size size(image.depth.cols / f, image.depth.rows / f);
+        // Nearest neighbour: depth is never averaged across an edge or with invalid pixels.
+        cv::resize(image.depth, in->image.depth, size, 0, 0, cv::INTER_NEAREST);
+        cv::resize(image.rgb, in->image.rgb, size, 0, 0, cv::INTER_AREA);
+        // Nearest neighbour of an f x f block picks its top-left pixel: centre u' maps to f u'.
+        in->image.intrinsics.fx = image.intrinsics.fx / f;
+        in->image.intrinsics.fy = image.intrinsics.fy / f;
+        in->image.intrinsics.cx = image.intrinsics.cx / f;
+        in->image.intrinsics.cy = image.intrinsics.cy / f;
+    }
+    const auto t = std::chrono::steady_clock::now();
+    Result<Frame> frame = preprocess(in->image, config_.preprocess);
+    if (!frame) return frame.status().with_context(where);
+    in->frame = std::move(frame).value();
+    report->times.preprocess_ms = ms_since(t);
+    const cv::Size size = in->image.depth.size();
+    in->instance_ids = config_.dynamics.use_segments
+                           ? dynamics::instance_labels(in->segments, in->frame.levels[0].depth_m,
+                                                       size, config_.dynamics.invalid)
+                           : cv::Mat::zeros(size, CV_16UC1);
+    in->instances = in->instance_ids != 0;
+    return Status::ok();
+}
+
+Status SlamSystem::track_static(const Input& in, FrameReport* report) {
+    const DynamicsOptions& d = config_.dynamics;
+    if (static_.model_stale()) {
+        // Restored from a checkpoint: the model is the map seen from the restored pose.
+        DF_RETURN_IF_ERROR(predict_model(in.frame, report));
+    }
+    auto t = std::chrono::steady_clock::now();
+    Eigen::Isometry3d guess = world_T_camera_;
+    if (config_.system.constant_velocity && !lost_) {
+        guess = orthonormalized(world_T_camera_ * last_motion_);
+    }
+    const bool any_instances = cv::countNonZero(in.instances) > 0;
+    const cv::Mat stage1_mask = any_instances ? in.instances : cv::Mat();
+    Result<TrackingResult> stage1 = static_.track(in.frame, guess, stage1_mask, config_.tracking);
+    if (!stage1) return stage1.status();
+    report->stage1 = *stage1;
+    report->tracking = *stage1;
+    report->times.stage1_ms = ms_since(t);
+
+    cv::Mat residual;
+    // Stage 1 may fail its checks because of the movers themselves (a person filling half the
+    // view): motion segmentation and stage 2 then start from what it converged to, and stage 2's
+    // checks decide.
+    const Eigen::Isometry3d& stage1_pose = stage1->estimate;
+    if (d.motion_segmentation) {
+        t = std::chrono::steady_clock::now();
+        cv::Mat photometric;
+        Result<cv::Mat> r = static_.residuals(in.frame, stage1_pose, config_.tracking,
+                                              d.motion.min_photometric > 0 ? &photometric : nullptr);
+        if (!r) return r.status();
+        residual = std::move(r).value();
+        dynamics::MotionInput motion;
+        motion.residual_m = residual;
+        motion.depth_m = in.frame.levels[0].depth_m;
+        motion.excluded = stage1_mask;
+        motion.geometric = in.segments.geometric;
+        motion.geometric_count = in.segments.geometric_count;
+        motion.photometric = photometric;
+        if (d.carry_forward && !previous_motion_.empty() && !lost_) {
+            const io::Intrinsics& k = in.frame.levels[0].intrinsics;
+            const Eigen::Isometry3d previous_T_current = world_T_camera_.inverse() * stage1_pose;
+            motion.carried = dynamics::warp_mask(
+                previous_motion_, in.frame.levels[0].vertex, previous_T_current.cast<float>(),
+                static_cast<float>(k.fx), static_cast<float>(k.fy), static_cast<float>(k.cx),
+                static_cast<float>(k.cy));
         }
-        world_T_camera_ = report.tracking.world_T_camera;
-        trajectory_.push_back(stamped(image.sensor_ns, world_T_camera_));
+        Result<dynamics::MotionResult> m = dynamics::segment_motion(motion, d.motion);
+        if (!m) return m.status();
+        report->motion = std::move(m).value();
+        report->times.motion_ms = ms_since(t);
+    }
+    previous_motion_ = report->motion.mask;
+    report->invalid =
+        dynamics::combine(in.segments, in.instance_ids, report->motion.mask, residual, d.invalid);
+
+    const bool stage1_ok = stage1->state == TrackingState::kOk;
+    const bool rescuable =
+        stage1_ok || static_cast<float>(report->motion.mask_pixels) <=
+                         d.max_rescue_fraction * static_cast<float>(report->motion.residual_pixels);
+    if (report->motion.moving && rescuable) {
+        t = std::chrono::steady_clock::now();
+        TrackingConfig refine = config_.tracking;
+        refine.iterations = d.refine_iterations;
+        // A good stage 1 needs only a few refining iterations; a rejected one is tracked again
+        // from the initial guess, in full, so its checks (how far it moved) see the whole step.
+        if (!stage1_ok) refine.iterations = config_.tracking.iterations;
+        Result<TrackingResult> stage2 = static_.track(
+            in.frame, stage1_ok ? stage1_pose : guess, report->invalid.tracking, refine);
+        if (!stage2) return stage2.status();
+        report->stage2 = *stage2;
+        report->stage2_ran = true;
+        // A refinement that fails its checks (too little left, say) keeps stage 1's pose.
+        if (stage2->state == TrackingState::kOk) report->tracking = *stage2;
+        report->times.stage2_ms = ms_since(t);
+    }
+    report->times.tracking_ms =
+        report->times.stage1_ms + report->times.motion_ms + report->times.stage2_ms;
+    static_.set_last_tracking(report->tracking);
+    return Status::ok();
+}
+
+void SlamSystem::update_pose(int64_t sensor_ns, FrameReport* report) {
+    const bool ok = report->tracking.state == TrackingState::kOk;
+    if (ok) {
+        if (!report->first) {
+            last_motion_ =
+                orthonormalized(world_T_camera_.inverse() * report->tracking.world_T_camera);
+        }
+        world_T_camera_ = report->tracking.world_T_camera;
+        trajectory_.push_back(stamped(sensor_ns, world_T_camera_));
     } else {
         ++lost_frames_;
     }
     lost_ = !ok;
-    report.world_T_camera = world_T_camera_;
+    report->world_T_camera = world_T_camera_;
     started_ = true;
-    input_size_ = image.depth.size();
-
-    if (ok || config_.system.fuse_when_lost) {
-        // ElasticFusion's order: fusion associates pixels with the surfels the map shows at the
-        // new pose (every active surfel), then the map is predicted again, after fusion, as the
-        // model the next frame is tracked against (confident surfels only, once there are some).
-        ++map_time_;
-        cv::Mat association;
-        if (config_.system.associate_by_prediction && map_.size() > 0) {
-            DF_RETURN_IF_ERROR(predict(*frame, 0.f, &association_, &report).with_context(where));
-            association = association_.index;
-        }
-        DF_RETURN_IF_ERROR(fuse(*frame, work, work_mask, association, &report).with_context(where));
-        const float min_confidence = map_time_ <= config_.system.bootstrap_frames
-                                         ? 0.f
-                                         : config_.system.predict_min_confidence;
-        map::ModelPrediction tracking_model;
-        DF_RETURN_IF_ERROR(
-            predict(*frame, min_confidence, &tracking_model, &report).with_context(where));
-        model_.vertex = tracking_model.vertex;
-        model_.normal = tracking_model.normal;
-        model_.colour = tracking_model.colour;
-        world_T_model_ = world_T_camera_;
-    }
-    ++frames_;
-    report.times.total_ms = ms_since(start);
-    return report;
 }
 
-Status SlamSystem::fuse(const Frame& frame, const io::RgbdImage& image, const cv::Mat& mask,
-                        const cv::Mat& association, FrameReport* report) {
+Status SlamSystem::map_static(const Input& in, FrameReport* report) {
+    // ElasticFusion's order: fusion associates pixels with the surfels the map shows at the new
+    // pose (every active surfel), then the map is predicted again, after fusion, as the model
+    // the next frame is tracked against (confident surfels only, once there are some).
+    ++map_time_;
     const auto t = std::chrono::steady_clock::now();
-    const FrameLevel& level = frame.levels[0];
+    const cv::Mat& mask = report->invalid.fusion;
+    const bool masked = !mask.empty() && cv::countNonZero(mask) > 0;
     Result<map::FusionStats> stats =
-        map_.fuse(level.vertex, level.normal, image.rgb, mask, association,
-                  world_T_camera_.cast<float>(), level.intrinsics, map_time_);
+        static_.fuse(in.frame, in.image.rgb, masked ? mask : cv::Mat(), world_T_camera_, map_time_,
+                     config_.system.associate_by_prediction, config_.prediction);
     if (!stats) return stats.status();
     report->fused = true;
     report->fusion = *stats;
     report->times.fusion_ms = ms_since(t);
-    return Status::ok();
+    return predict_model(in.frame, report);
 }
 
-Status SlamSystem::predict(const Frame& frame, float min_confidence, map::ModelPrediction* out,
-                           FrameReport* report) {
+Status SlamSystem::predict_model(const Frame& frame, FrameReport* report) {
     const auto t = std::chrono::steady_clock::now();
-    const FrameLevel& level = frame.levels[0];
     map::PredictionConfig prediction = config_.prediction;
-    prediction.min_confidence = min_confidence;
-    DF_RETURN_IF_ERROR(map_.predict_into(world_T_camera_.cast<float>(), level.intrinsics,
-                                         level.width(), level.height(), map_time_, prediction,
-                                         *out));
+    prediction.min_confidence =
+        map_time_ <= config_.system.bootstrap_frames ? 0.f : config_.system.predict_min_confidence;
+    DF_RETURN_IF_ERROR(static_.predict_model(frame, world_T_camera_, map_time_, prediction));
     report->times.prediction_ms += ms_since(t);
     return Status::ok();
 }
@@ -187,7 +293,7 @@ Status SlamSystem::write_trajectory(const std::string& file) const {
 }
 
 Status SlamSystem::write_map(const std::string& file, bool stable_only) const {
-    return map_.write_ply(file, stable_only);
+    return static_.map().write_ply(file, stable_only);
 }
 
 }  // namespace df::slam

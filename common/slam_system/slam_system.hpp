@@ -1,10 +1,12 @@
 #pragma once
-/// The static-scene dense SLAM loop: preprocess -> track against the model predicted at the
-/// previous pose -> fuse into the surfel map -> predict the model at the new pose. DDS-free:
-/// the offline command and the SLAM service both drive it one image at a time.
+/// The dense SLAM loop with the paper's dynamic handling of the static map: preprocess -> track
+/// against the static map's model with the frame's object instances left out (stage 1) ->
+/// motion segmentation of stage 1's residuals -> refine the pose with the whole invalid mask
+/// left out (stage 2) -> fuse the valid pixels into the static map -> predict its model at the
+/// new pose. DDS-free: the offline command and the SLAM service both drive it one image at a
+/// time, with the frame's masks as a label image and a table (dynamics::FrameSegments).
 ///
-/// Designed for the dynamic system to come: every call takes a per-pixel mask of pixels to leave
-/// out of tracking and fusion, and the static map is one map among the object maps to follow.
+/// The static map is one MapInstance; object maps (the next step) are more instances of it.
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <opencv2/core.hpp>
@@ -12,11 +14,15 @@
 #include <vector>
 
 #include "core/status.hpp"
+#include "dynamics/frame_segments.hpp"
+#include "dynamics/invalid_mask.hpp"
+#include "dynamics/motion_segmentation.hpp"
 #include "io/rgbd_image.hpp"
 #include "io/tum/trajectory.hpp"
 #include "map/surfel_map.hpp"
 #include "slam/frame.hpp"
 #include "slam/tracker.hpp"
+#include "slam_system/map_instance.hpp"
 #include "slam_system/system_config.hpp"
 
 namespace df::slam {
@@ -24,6 +30,8 @@ namespace df::slam {
 /// Milliseconds spent in each stage of one frame (wall clock).
 struct StageTimes {
     double preprocess_ms = 0, tracking_ms = 0, fusion_ms = 0, prediction_ms = 0, total_ms = 0;
+    /// Parts of tracking_ms: stage 1, motion segmentation (residuals included), stage 2.
+    double stage1_ms = 0, motion_ms = 0, stage2_ms = 0;
     /// ("preprocess", ms), ... in pipeline order, for timing log lines.
     std::vector<std::pair<std::string, double>> steps() const;
 };
@@ -33,11 +41,39 @@ struct FrameReport {
     uint64_t frame_number = 0;  ///< 0-based count of frames given to process()
     int64_t sensor_ns = 0;      ///< the image's stamp
     bool first = false;         ///< the frame that started the map (pose = initial pose)
-    TrackingResult tracking;    ///< state kOk also for the first frame (figures 0)
+    TrackingResult tracking;    ///< the pose used: stage 2's when it ran and held, else stage 1's
+    TrackingResult stage1;      ///< against the static model, object instances left out
+    TrackingResult stage2;      ///< refinement with the whole invalid mask left out
+    bool stage2_ran = false;    ///< motion segmentation found movers, so stage 2 ran
+    /// Motion segmentation of stage 1's residuals (mask empty when it did not run).
+    dynamics::MotionResult motion;
+    /// The invalid mask at the processing resolution (system.processing_downscale), as masks
+    /// and as labels with their table; empty masks when nothing was left out.
+    dynamics::InvalidMask invalid;
+    /// Why the frame's segments were not used ("" when they were, or there were none): they
+    /// did not fit the image (wrong size, unknown id). The frame is tracked without them.
+    std::string segments_error;
     Eigen::Isometry3d world_T_camera = Eigen::Isometry3d::Identity();  ///< as reported
     bool fused = false;
     map::FusionStats fusion;
     StageTimes times;
+};
+
+/// Everything a SlamSystem carries from frame to frame, besides its configuration and the
+/// model (which restore() predicts again): what a checkpoint saves (slam_system/checkpoint.hpp).
+struct SystemState {
+    std::vector<map::Surfel> surfels;  ///< the static map, in storage order
+    uint64_t surfels_rejected_by_capacity = 0;
+    Eigen::Isometry3d world_T_camera = Eigen::Isometry3d::Identity();  ///< the current pose
+    Eigen::Isometry3d last_motion = Eigen::Isometry3d::Identity();     ///< previous_T_current
+    std::vector<io::StampedPose> trajectory;
+    uint64_t frames = 0;
+    uint64_t lost_frames = 0;
+    int map_time = 0;
+    bool started = false;
+    bool lost = false;
+    int input_width = 0;  ///< of the first frame (0 before it)
+    int input_height = 0;
 };
 
 class SlamSystem {
@@ -47,11 +83,22 @@ class SlamSystem {
                                      const Eigen::Isometry3d& initial_world_T_camera =
                                          Eigen::Isometry3d::Identity());
 
-    /// Processes the next image. `mask`: empty, or CV_8UC1 of the image's size, non-zero =
-    /// leave the pixel out of tracking and fusion. kInvalidArgument for an unusable image (wrong
-    /// type, size changed since the first frame, bad intrinsics); the system is unchanged then
-    /// and the next good image goes on from the last pose.
-    Result<FrameReport> process(const io::RgbdImage& image, const cv::Mat& mask = cv::Mat());
+    /// A system that goes on from `state` (a checkpoint's). The model to track against is
+    /// predicted from the restored map at the restored pose when the next image comes (its
+    /// intrinsics are needed), so tracking goes on from the map, not from an empty model.
+    /// kInvalidArgument for a bad configuration or a state whose pose is not finite.
+    static Result<SlamSystem> restore(const SystemConfig& config, SystemState state);
+    /// The state to checkpoint (copies the map).
+    SystemState state() const;
+
+    /// Processes the next image with the masks it comes with (`segments`, of the image's size;
+    /// empty: none, motion segmentation alone). Segments that do not fit the image are not
+    /// used (FrameReport::segments_error says why) and the frame is still tracked.
+    /// kInvalidArgument for an unusable image (wrong type, size changed since the first frame,
+    /// bad intrinsics); the system is unchanged then and the next good image goes on from the
+    /// last pose.
+    Result<FrameReport> process(const io::RgbdImage& image,
+                                const dynamics::FrameSegments& segments = {});
 
     /// Poses of the frames tracked (state kOk, and the first), in order: the trajectory in TUM
     /// form (stamps from sensor_ns). Lost frames are left out (`lost_frames()` counts them).
@@ -60,13 +107,13 @@ class SlamSystem {
     uint64_t lost_frames() const { return lost_frames_; }
     /// True when the last frame was lost.
     bool lost() const { return lost_; }
-    const map::SurfelMap& static_map() const { return map_; }
+    const map::SurfelMap& static_map() const { return static_.map(); }
     const SystemConfig& config() const { return config_; }
     /// The current pose (the last tracked one).
     const Eigen::Isometry3d& world_T_camera() const { return world_T_camera_; }
     /// The model the next frame is tracked against, and the pose it was predicted at.
-    const ModelView& model() const { return model_; }
-    const Eigen::Isometry3d& world_T_model() const { return world_T_model_; }
+    const ModelView& model() const { return static_.model(); }
+    const Eigen::Isometry3d& world_T_model() const { return static_.map_T_model(); }
 
     /// Writes trajectory() as a TUM file.
     Status write_trajectory(const std::string& file) const;
@@ -74,25 +121,34 @@ class SlamSystem {
     Status write_map(const std::string& file, bool stable_only = true) const;
 
   private:
+    /// One frame on its way through process().
+    struct Input {
+        io::RgbdImage image;           ///< at the processing resolution
+        dynamics::FrameSegments segments;  ///< at the processing resolution (checked)
+        Frame frame;
+        cv::Mat instance_ids;  ///< CV_16UC1, the instances left out (instance_labels)
+        cv::Mat instances;     ///< CV_8UC1, instance_ids as a mask (255 = left out)
+    };
+
     explicit SlamSystem(const SystemConfig& config, const Eigen::Isometry3d& initial);
-    /// The image reduced to the processing resolution (mask alike).
-    void downscale(const io::RgbdImage& in, const cv::Mat& mask_in, io::RgbdImage* out,
-                   cv::Mat* mask_out) const;
-    /// Fuses the frame at world_T_camera_; association: empty or the index image of a
-    /// prediction at that pose.
-    Status fuse(const Frame& frame, const io::RgbdImage& image, const cv::Mat& mask,
-                const cv::Mat& association, FrameReport* report);
-    /// Predicts the map at world_T_camera_ (surfels with confidence >= min_confidence).
-    Status predict(const Frame& frame, float min_confidence, map::ModelPrediction* out,
-                   FrameReport* report);
+    /// Checks and downscales the image and its segments, preprocesses the frame.
+    Status prepare(const io::RgbdImage& image, const dynamics::FrameSegments& segments,
+                   const std::string& where, Input* in, FrameReport* report) const;
+    /// Stage 1, motion segmentation, stage 2; fills report->tracking and report->invalid.
+    Status track_static(const Input& in, FrameReport* report);
+    /// Moves the camera to the tracked pose (or counts the frame lost) and logs it.
+    void update_pose(int64_t sensor_ns, FrameReport* report);
+    /// Fuses the frame's valid pixels into the static map and predicts the next model.
+    Status map_static(const Input& in, FrameReport* report);
+    /// The model the next frame is tracked against: the map predicted at world_T_camera_
+    /// (confident surfels only once bootstrapped).
+    Status predict_model(const Frame& frame, FrameReport* report);
 
     SystemConfig config_;
-    map::SurfelMap map_;
+    MapInstance static_;
     Eigen::Isometry3d world_T_camera_;
     Eigen::Isometry3d last_motion_ = Eigen::Isometry3d::Identity();  ///< previous_T_current
-    ModelView model_;
-    map::ModelPrediction association_;  ///< reused buffers of fusion's association prediction
-    Eigen::Isometry3d world_T_model_ = Eigen::Isometry3d::Identity();  ///< pose model_ is at
+    cv::Mat previous_motion_;  ///< the last frame's motion mask (carried forward)
     std::vector<io::StampedPose> trajectory_;
     uint64_t frames_ = 0;
     uint64_t lost_frames_ = 0;

@@ -23,6 +23,18 @@ std::string validate(const SystemConfig& config) {
                std::to_string(config.preprocess.pyramid_levels);
     }
     if (config.map.max_surfels == 0) return "map.max_surfels must be > 0";
+    const DynamicsOptions& d = config.dynamics;
+    if (d.refine_iterations.size() != config.tracking.iterations.size()) {
+        return "dynamics.refine_iterations has " + std::to_string(d.refine_iterations.size()) +
+               " levels, tracking.iterations " + std::to_string(config.tracking.iterations.size());
+    }
+    for (int i : d.refine_iterations)
+        if (i < 0) return "dynamics.refine_iterations must be >= 0, got " + std::to_string(i);
+    if (!(d.max_rescue_fraction >= 0.f && d.max_rescue_fraction <= 1.f))
+        return "dynamics.max_rescue_fraction must be in [0, 1], got " +
+               std::to_string(d.max_rescue_fraction);
+    if (std::string e = dynamics::validate(d.motion); !e.empty()) return "motion." + e;
+    if (std::string e = dynamics::validate(d.invalid); !e.empty()) return "invalid." + e;
     if (config.map.association_window_px < 0 || config.map.association_window_px > 4) {
         return "map.association_window_px must be 0..4, got " +
                std::to_string(config.map.association_window_px);

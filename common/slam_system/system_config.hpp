@@ -5,6 +5,10 @@
 /// configuration files, flags and `df_slam params`.
 #include <string>
 
+#include <vector>
+
+#include "dynamics/invalid_mask.hpp"
+#include "dynamics/motion_segmentation.hpp"
 #include "map/surfel_map.hpp"
 #include "slam/slam_config.hpp"
 #include "slam/tracker.hpp"
@@ -21,10 +25,14 @@ struct SystemOptions {
     int processing_downscale = 2;
     /// The model tracking aligns to renders surfels with confidence >= this (ElasticFusion
     /// tracks against its confident surfels: fresh, noisy ones would pull the pose) ...
-    float predict_min_confidence = 0.f;
+    /// 3: fragments of a mover fused in a frame or two (a missed detection) do not show in the
+    /// model, so they neither pull tracking nor hide the mover from motion segmentation (its
+    /// residuals are then against the background behind it); 7-Scenes ATE unchanged (2.42 cm
+    /// with 0 or 3, docs/dynamics.md).
+    float predict_min_confidence = 3.f;
     /// ... except during the first this many frames, when every active surfel is rendered (no
     /// surfel can be confident yet).
-    int bootstrap_frames = 5;
+    int bootstrap_frames = 10;
     /// Initial guess of each frame's pose: false = the previous pose (ElasticFusion); true =
     /// the previous pose moved on by the last frame-to-frame motion (constant velocity).
     bool constant_velocity = false;
@@ -36,12 +44,36 @@ struct SystemOptions {
     bool associate_by_prediction = true;
 };
 
+/// How the static map is kept static (docs/dynamics.md): which masks the frame's pixels are
+/// left out by, and the two tracking stages.
+struct DynamicsOptions {
+    /// Leave the frame's object instances (FrameSegments::objects, of the kinds `invalid`
+    /// names) out of tracking and fusion of the static map. false: segments are ignored.
+    bool use_segments = true;
+    /// Find unknown movers in stage 1's residuals and leave them out too (stage 2).
+    bool motion_segmentation = true;
+    /// Motion segments of the previous frame, warped by the tracked motion, lower the evidence
+    /// a segment needs to stay dynamic (MotionSegmentationConfig::carried_segment_fraction).
+    bool carry_forward = true;
+    /// Gauss-Newton iterations per level (finest first) of stage 2, the refinement of stage 1's
+    /// pose with the whole invalid mask left out; run only when motion segmentation found
+    /// something. Its size must be that of tracking.iterations.
+    std::vector<int> refine_iterations = {6, 3, 0};
+    /// A frame stage 1 rejected is rescued by stage 2 only when motion segmentation left out at
+    /// most this fraction of the pixels it clustered: a wrong pose makes everything look like it
+    /// moved, and a mask that explains away most of the view would pass any check.
+    float max_rescue_fraction = 0.3f;
+    dynamics::MotionSegmentationConfig motion;
+    dynamics::InvalidMaskConfig invalid;
+};
+
 struct SystemConfig {
     PreprocessConfig preprocess;
     TrackingConfig tracking;
     map::SurfelMapConfig map;
     map::PredictionConfig prediction;
     SystemOptions system;
+    DynamicsOptions dynamics;
 };
 
 /// Empty string when usable, else a message naming the bad field and its value.

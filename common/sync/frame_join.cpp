@@ -19,6 +19,31 @@ std::string validate(const JoinConfig& c) {
 
 FrameJoin::FrameJoin(JoinConfig config) : config_(config) {}
 
+EpochCheck FrameJoin::on_epoch(uint64_t epoch, int64_t now_ns,
+                               std::vector<JoinDecision>* released) {
+    (void)now_ns;
+    if (epoch_ && epoch == *epoch_) return EpochCheck::kCurrent;
+    if (epoch_ && epoch < *epoch_) {
+        ++stale_;
+        return EpochCheck::kStale;
+    }
+    while (!pending_.empty()) {
+        const Pending head = pending_.front();
+        pending_.pop_front();
+        const auto own = detections_.find(head.seq);
+        const char* why = head.segments != Arrival::kOk ? "segments not ok"
+                          : own != detections_.end()    ? "own detections"
+                                                        : "a new capture run began";
+        if (released != nullptr) released->push_back(decide(head, why));
+    }
+    detections_.clear();
+    detection_stamp_.clear();
+    last_released_.reset();
+    newest_ok_.reset();  // boxes of the old run are not reused for the new one
+    epoch_ = epoch;
+    return EpochCheck::kNewRun;
+}
+
 void FrameJoin::on_segments(uint64_t seq, int64_t capture_ns, Arrival status, int64_t now_ns) {
     if (last_released_ && seq <= *last_released_) {
         ++duplicates_;  // a repeat, or so late that its frame was given up
@@ -50,6 +75,7 @@ void FrameJoin::on_detections(uint64_t seq, int64_t capture_ns, Arrival status, 
 JoinDecision FrameJoin::decide(const Pending& p, const char* why) {
     JoinDecision d;
     d.seq = p.seq;
+    d.epoch = epoch_.value_or(0);
     d.segments = p.segments;
     d.why = why;
     const auto own = detections_.find(p.seq);

@@ -17,6 +17,10 @@
 /// - Duplicates are ignored; messages for frames already released (late detections) are kept
 ///   only as candidates for reuse; detections that arrive before their segments wait for them.
 /// - At most `max_pending` frames wait; beyond that the oldest is released at once.
+/// - Runs: sequence numbers count from 0 again in each capture run (header.epoch, the run's
+///   start). Every message is first shown to on_epoch(): a message of a later run releases the
+///   frames still waiting (the old run's last decisions) and starts the join over, so no frame
+///   of the new run is taken for a duplicate; a message of an earlier run is stale, ignored.
 #include <cstdint>
 #include <deque>
 #include <map>
@@ -27,6 +31,13 @@
 namespace df::sync {
 
 enum class Arrival { kOk, kSkipped, kFailed };
+
+/// What on_epoch() made of a message's run epoch.
+enum class EpochCheck {
+    kCurrent,  ///< the run being joined: go on with the message
+    kNewRun,   ///< a later run (or the first message): the join started over; go on
+    kStale,    ///< an earlier run's message: drop it
+};
 
 struct JoinConfig {
     int64_t detection_deadline_ns = 60'000'000;  ///< 60 ms: two frames at 30 Hz
@@ -39,6 +50,7 @@ std::string validate(const JoinConfig& config);
 /// What to publish for one frame.
 struct JoinDecision {
     uint64_t seq = 0;
+    uint64_t epoch = 0;               ///< the run the frame belongs to
     Arrival segments = Arrival::kOk;  ///< the frame's segments status
     bool detections_used = false;     ///< false: published without detections
     uint64_t detections_seq = 0;      ///< which frame's detections (== seq when its own)
@@ -48,6 +60,11 @@ struct JoinDecision {
 class FrameJoin {
   public:
     explicit FrameJoin(JoinConfig config = {});
+
+    /// The run epoch of the next message. kNewRun: the frames of the old run still waiting are
+    /// appended to `released` (decided as if their deadline had passed) before the join starts
+    /// over; the caller publishes them, then forgets the old run's payloads.
+    EpochCheck on_epoch(uint64_t epoch, int64_t now_ns, std::vector<JoinDecision>* released);
 
     /// The segments of frame `seq`, captured at `capture_ns`, arrived at `now_ns` (local clock).
     void on_segments(uint64_t seq, int64_t capture_ns, Arrival status, int64_t now_ns);
@@ -60,6 +77,10 @@ class FrameJoin {
 
     size_t pending() const { return pending_.size(); }
     uint64_t duplicates() const { return duplicates_; }
+    /// Messages of an earlier run dropped by on_epoch().
+    uint64_t stale() const { return stale_; }
+    /// The run being joined (nullopt before the first message).
+    std::optional<uint64_t> epoch() const { return epoch_; }
 
   private:
     struct Pending {
@@ -77,6 +98,8 @@ class FrameJoin {
     std::optional<uint64_t> last_released_;
     std::optional<std::pair<uint64_t, int64_t>> newest_ok_;  // (seq, capture_ns) for reuse
     uint64_t duplicates_ = 0;
+    std::optional<uint64_t> epoch_;
+    uint64_t stale_ = 0;
 };
 
 }  // namespace df::sync

@@ -2,6 +2,7 @@
 #include <CLI/CLI.hpp>
 
 #include "capture_node.hpp"
+#include "config/validate.hpp"
 #include "core/log.hpp"
 #include "service/service.hpp"
 
@@ -10,6 +11,7 @@ int main(int argc, char** argv) {
     CLI::App app{"df_capture: RGB-D frames from a TUM folder or an OpenNI2 camera onto DDS"};
     df::service::ConfigFlags flags;
     df::service::add_config_flags(app, &flags);
+    app.footer(df::config::options_help(df::config::CaptureConfig::descriptor()));
     std::string folder;
     app.add_option("folder", folder, "TUM RGB-D folder (shortcut for --set 'folder: \"...\"')");
     CLI11_PARSE(app, argc, argv);
@@ -42,7 +44,10 @@ int main(int argc, char** argv) {
     }
     df::log::info("done: ", stats->published, " frames published, ", stats->bad_frames,
                   " bad frames skipped, ", stats->lockstep_timeouts, " lockstep timeouts, ",
-                  stats->loan_fallbacks, " loan fallbacks, ",
+                  stats->stages_left, " frames published while a lockstep stage was gone, ",
+                  stats->frames_abandoned, " waits ended by a frames reader leaving, ",
+                  stats->bad_answers, " stage_status samples refused, ", stats->loan_fallbacks,
+                  " loan fallbacks, ",
                   stats->elapsed_s > 0 ? stats->published / stats->elapsed_s : 0.0, " frames/s");
     return 0;
 }

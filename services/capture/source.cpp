@@ -21,6 +21,8 @@ Result<std::unique_ptr<io::FrameSource>> open_tum(const config::CaptureConfig& c
     tc.depth_invalid_value = static_cast<int>(c.depth_invalid_value());
     tc.max_difference_s = c.max_difference_s();
     tc.use_associations_file = c.use_associations_file();
+    tc.width = static_cast<int>(c.width());
+    tc.height = static_cast<int>(c.height());
     auto source = io::TumFolderSource::open(tc);
     if (!source) return source.status();
     for (const auto& e : (*source)->list_errors()) log::error("bad list line skipped: ", e);

@@ -9,8 +9,10 @@
 
 #include "dds/participant.hpp"
 #include "dds/reader.hpp"
+#include "dds/sample_check.hpp"
 #include "dds/waitset.hpp"
 #include "dds/writer.hpp"
+#include "boxes/box_source.hpp"
 #include "detect/detector.hpp"
 #include "detector.pb.h"
 #include "df_msgs.h"
@@ -19,17 +21,7 @@
 
 namespace df::detector_service {
 
-/// What produces the boxes of one image.
-class BoxSource {
-  public:
-    virtual ~BoxSource() = default;
-    virtual Result<std::vector<detect::Detection>> detect(const io::RgbdImage& image,
-                                                          uint64_t seq) = 0;
-    virtual std::string describe() const = 0;
-};
-
-/// The source a configuration names; errors name the model file or sequence folder.
-Result<std::unique_ptr<BoxSource>> open_source(const config::DetectorServiceConfig& config);
+using boxes::BoxSource;
 
 class DetectorNode {
   public:
@@ -45,6 +37,7 @@ class DetectorNode {
         io::RgbdImage image;
         df_msg_Header header;
         int source_width = 0, source_height = 0;
+        bool valid = true;  ///< false: the sample failed its check (answered as failed)
     };
     DetectorNode(const config::DetectorServiceConfig& config, std::unique_ptr<BoxSource> source,
                  std::optional<dds::Reader<df_msg_RgbdFrame>> frames,
@@ -64,6 +57,7 @@ class DetectorNode {
     dds::Writer<df_msg_Detections> detections_;
     dds::Writer<df_msg_StageStatus> status_;
     dds::WaitSet waitset_;
+    dds::RejectLog rejects_;
     uint64_t detected_ = 0, skipped_ = 0, failed_ = 0;
 };
 

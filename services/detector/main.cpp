@@ -2,6 +2,7 @@
 // detector on a generated sequence), as a DDS service (docs/segmentation.md).
 #include <CLI/CLI.hpp>
 
+#include "config/validate.hpp"
 #include "core/log.hpp"
 #include "detector_node.hpp"
 #include "service/service.hpp"
@@ -13,11 +14,12 @@ int main(int argc, char** argv) {
         "DDS service"};
     df::service::ConfigFlags flags;
     df::service::add_config_flags(app, &flags);
+    app.footer(df::config::options_help(df::config::DetectorServiceConfig::descriptor()));
     CLI11_PARSE(app, argc, argv);
     df::service::install_stop_handlers();
     df::config::DetectorServiceConfig config;
     if (!df::service::load_config(flags, &config)) return 2;
-    auto source = df::detector_service::open_source(config);
+    auto source = df::boxes::open_source(config);
     if (!source) {
         df::log::error(source.status().message());
         return 2;

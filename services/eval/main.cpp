@@ -2,6 +2,8 @@
 //   df_eval ate|rpe|object GT EST, recon GT.ply EST.ply, seg GT_SEQ PRED_DIR, timing LOG...,
 //   run SEQ_DIR RUN_DIR. See docs/evaluation.md.
 #include <CLI/CLI.hpp>
+#include <cmath>
+#include <cstdlib>
 
 #include "commands.hpp"
 #include "core/log.hpp"
@@ -9,6 +11,18 @@
 namespace {
 
 using df::eval_cli::Outputs;
+
+/// A number of seconds or metres given on the command line: finite and above (or at) a floor.
+CLI::Validator finite_at_least(double floor, bool inclusive) {
+    const std::string rule = (inclusive ? ">= " : "> ") + CLI::detail::to_string(floor);
+    return CLI::Validator(
+        [floor, inclusive, rule](const std::string& text) -> std::string {
+            const double v = std::strtod(text.c_str(), nullptr);
+            const bool ok = std::isfinite(v) && (inclusive ? v >= floor : v > floor);
+            return ok ? "" : "is " + text + ", allowed: finite and " + rule;
+        },
+        "FINITE " + rule);
+}
 
 void add_outputs(CLI::App* sub, Outputs* out, bool with_plot) {
     sub->add_option("--json", out->json_file, "write the results to this JSON file");
@@ -18,9 +32,11 @@ void add_outputs(CLI::App* sub, Outputs* out, bool with_plot) {
 void add_association(CLI::App* sub, df::eval::AssociationConfig* config) {
     sub->add_option("--max-dt", config->max_difference_s,
                     "seconds: pairs need |t_gt - (t_est + offset)| below this")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(finite_at_least(0, false));
     sub->add_option("--offset", config->offset_s, "seconds added to the estimate's stamps")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(finite_at_least(-1e9, true));
 }
 
 /// String choices of the RPE options, turned into the config after parsing.
@@ -35,7 +51,8 @@ struct RpeChoices {
 
 void add_rpe(CLI::App* sub, df::eval::RpeConfig* config, RpeChoices* choices, bool with_form) {
     sub->add_option("--delta", config->delta, "distance of the compared poses, in --unit")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(finite_at_least(0, false));
     sub->add_option("--unit", choices->unit, "s (seconds) or f (frames)")
         ->check(CLI::IsMember({"s", "f"}))
         ->capture_default_str();
@@ -73,7 +90,8 @@ int main(int argc, char** argv) {
     rpe_cmd->add_option("EST", est, "estimated TUM trajectory")->required();
     add_rpe(rpe_cmd, &rpe, &rpe_choices, true);
     rpe_cmd->add_option("--offset", rpe.offset_s, "seconds added to the estimate's stamps")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(finite_at_least(-1e9, true));
     add_outputs(rpe_cmd, &out, true);
 
     auto* object = app.add_subcommand("object", "object trajectory aligned by its first pose");
@@ -109,7 +127,8 @@ int main(int argc, char** argv) {
 
     std::vector<std::string> logs;
     auto* timing = app.add_subcommand(
-        "timing", "per-stage times from 'timing seq=...' log lines or MCAP recordings of <ns>/stage_status");
+        "timing",
+        "per-stage times from 'timing seq=...' log lines or MCAP recordings of <ns>/stage_status");
     timing->add_option("LOG", logs, "log files or .mcap recordings")->required();
     add_outputs(timing, &out, false);
 

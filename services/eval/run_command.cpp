@@ -241,6 +241,12 @@ int cmd_run(const std::string& sequence_dir, const std::string& run_dir,
     score_map(seq, run, options, gt_T_est, &report);
     score_masks(seq, run, options, &report);
     score_timing(run, &report);
+    if (report.errors.empty() && report.doc.size() == 2) {  // only "sequence" and "run"
+        log::error(run_dir,
+                   ": nothing to score (no trajectory.txt, objects/, map.ply, masks/ or "
+                   "*.log); is it a run folder?");
+        return 1;
+    }
     report.doc["errors"] = report.errors;
     report.doc["skipped"] = report.skipped;
     const fs::path json_file = run / "eval.json";

@@ -102,23 +102,49 @@ FusionNode::FusionNode(const config::FusionServiceConfig& config, const FusionSe
       waitset_(std::move(waitset)),
       join_(settings.join) {}
 
+bool FusionNode::admit(const df_msg_Header& header, int64_t now) {
+    // An epoch is a capture's start; one far in the future (a hostile or broken writer) would
+    // make every real run's messages stale.
+    constexpr uint64_t kFutureSlackNs = 3'600'000'000'000;  // clocks of two hosts may differ
+    if (header.epoch > dds::wall_ns() + kFutureSlackNs) {
+        if (future_epochs_++ % 100 == 0) {
+            log::warn("seq=", header.seq, " dropped: run epoch ", header.epoch,
+                      " ns lies more than an hour in the future (", future_epochs_, " so far)");
+        }
+        return false;
+    }
+    std::vector<sync::JoinDecision> released;
+    const sync::EpochCheck e = join_.on_epoch(header.epoch, now, &released);
+    if (e == sync::EpochCheck::kStale) {
+        log::debug("seq=", header.seq, " dropped: a message of an earlier capture run (epoch ",
+                   header.epoch, ")");
+        return false;
+    }
+    if (e == sync::EpochCheck::kNewRun) {
+        for (const sync::JoinDecision& d : released) publish(d);
+        segments_.clear();
+        detections_.clear();
+        log::info("seq=", header.seq, " capture run epoch ", header.epoch,
+                  ": joining a new run (", released.size(), " frame(s) of the old run released)");
+    }
+    return true;
+}
+
 Status FusionNode::take(int64_t now) {
     auto s = segments_in_.take(
         [&](const df_msg_GeometricSegments& m, const dds_sample_info_t& info) {
-            if (!info.valid_data) return;
+            if (!info.valid_data || !admit(m.header, now)) return;
             Segments seg;
             seg.header = m.header;
-            if (m.header.status == df_msg_FRAME_OK &&
-                static_cast<size_t>(m.width) * m.height <= df_msg_MAX_PIXELS) {
-                seg.labels.create(m.height, m.width, CV_32SC1);
-                const uint16_t* in = m.labels;
-                for (int y = 0; y < m.height; ++y) {
-                    int32_t* row = seg.labels.ptr<int32_t>(y);
-                    for (int x = 0; x < m.width; ++x) row[x] = *in++;
-                }
+            const auto checked =
+                dds::accept(m, segments_in_.get(), segments_in_.topic(), info, rejects_);
+            if (!checked) seg.header.status = df_msg_FRAME_FAILED;
+            if (checked && m.header.status == df_msg_FRAME_OK) {
+                seg.labels = dds::labels_of(*checked);
                 seg.count = static_cast<int>(m.segment_count);
             }
-            const auto arrival = seg.labels.empty() && m.header.status == df_msg_FRAME_OK
+            const auto arrival = !checked ? sync::Arrival::kFailed
+                                 : seg.labels.empty() && m.header.status == df_msg_FRAME_OK
                                      ? sync::Arrival::kFailed
                                      : arrival_of(m.header.status);
             segments_[m.header.seq] = std::move(seg);
@@ -130,9 +156,12 @@ Status FusionNode::take(int64_t now) {
     const auto& names = detect::coco_names();
     auto d = detections_in_.take(
         [&](const df_msg_Detections& m, const dds_sample_info_t& info) {
-            if (!info.valid_data) return;
+            if (!info.valid_data || !admit(m.header, now)) return;
             std::vector<detect::Detection> boxes;
-            for (uint32_t i = 0; i < std::min<uint32_t>(m.count, df_msg_MAX_DETECTIONS); ++i) {
+            const bool valid =
+                dds::accept(m, detections_in_.get(), detections_in_.topic(), info, rejects_)
+                    .is_ok();
+            for (uint32_t i = 0; valid && i < m.count; ++i) {
                 const df_msg_Detection& b = m.boxes[i];
                 detect::Detection det;
                 det.box = cv::Rect2f(b.x, b.y, b.w, b.h);
@@ -145,7 +174,8 @@ Status FusionNode::take(int64_t now) {
             }
             detections_[m.header.seq] = std::move(boxes);
             join_.on_detections(m.header.seq, static_cast<int64_t>(m.header.capture_ns),
-                                arrival_of(m.header.status), now);
+                                valid ? arrival_of(m.header.status) : sync::Arrival::kFailed,
+                                now);
         },
         32);
     return d ? Status::ok() : d.status();
@@ -204,6 +234,29 @@ void FusionNode::publish(const sync::JoinDecision& d) {
                 info.pixel_count = static_cast<uint32_t>(inst.pixels);
                 ++instances_by_class_[inst.detection.class_name];
             }
+            // Persons no segment explained still come with their box (0 pixels), so that SLAM
+            // can leave the box's foreground out (docs/dynamics.md).
+            int next_id = 1;
+            for (const seg::Instance& inst : r->instances) next_id = std::max(next_id, inst.id + 1);
+            for (const detect::Detection& b : boxes) {
+                if (kind_of(b) != detect::ClassKind::kNonRigid) continue;
+                bool segmented = false;
+                for (const seg::Instance& inst : r->instances)
+                    segmented = segmented || (inst.detection.box == b.box &&
+                                              inst.detection.class_id == b.class_id);
+                if (segmented || m.instance_count >= df_msg_MAX_INSTANCES || next_id > 65535)
+                    continue;
+                df_msg_InstanceInfo& info = m.instances[m.instance_count++];
+                info.instance_id = static_cast<uint16_t>(next_id++);
+                info.class_id = b.class_id;
+                info.score = b.score;
+                info.kind = df_msg_OBJECT_NON_RIGID;
+                info.box_x = b.box.x;
+                info.box_y = b.box.y;
+                info.box_w = b.box.width;
+                info.box_h = b.box.height;
+                info.pixel_count = 0;
+            }
             uint16_t* out = m.labels;
             for (int y = 0; y < r->labels.rows; ++y) {
                 const uint16_t* row = r->labels.ptr<uint16_t>(y);
@@ -244,7 +297,7 @@ void FusionNode::publish(const sync::JoinDecision& d) {
 Status FusionNode::run() {
     log::info("joining ", segments_in_.topic(), " and ", detections_in_.topic(), " (deadline ",
               config_.detection_deadline_ms(), " ms)");
-    service::StreamEnd stream(config_.idle_exit_s());
+    service::StreamEnd stream(config_.idle_exit_s(), config_.writers_grace_s());
     while (!service::stop_requested()) {
         const int64_t now = now_ns();
         int64_t wait_ns = 100'000'000;

@@ -10,6 +10,7 @@
 
 #include "dds/participant.hpp"
 #include "dds/reader.hpp"
+#include "dds/sample_check.hpp"
 #include "dds/waitset.hpp"
 #include "dds/writer.hpp"
 #include "df_msgs.h"
@@ -48,6 +49,9 @@ class FusionNode {
                dds::Writer<df_msg_ObjectSegments> objects, dds::Writer<df_msg_StageStatus> status,
                dds::WaitSet waitset);
     Status take(int64_t now);
+    /// The run epoch of a message: false for an earlier run's (dropped); a later run's first
+    /// message publishes the old run's waiting frames and forgets its payloads.
+    bool admit(const df_msg_Header& header, int64_t now);
     void publish(const sync::JoinDecision& d);
 
     config::FusionServiceConfig config_;
@@ -57,10 +61,12 @@ class FusionNode {
     dds::Writer<df_msg_ObjectSegments> objects_;
     dds::Writer<df_msg_StageStatus> status_;
     dds::WaitSet waitset_;
+    dds::RejectLog rejects_;  ///< samples that failed their check
     sync::FrameJoin join_;
     std::map<uint64_t, Segments> segments_;
     std::map<uint64_t, std::vector<detect::Detection>> detections_;
     uint64_t published_ = 0, with_own_ = 0, with_reused_ = 0, without_ = 0;
+    uint64_t future_epochs_ = 0;  // messages dropped for an epoch far in the future
     std::map<std::string, uint64_t> instances_by_class_;  // over the stream, for the end log
 };
 

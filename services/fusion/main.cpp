@@ -2,6 +2,7 @@
 // every frame (docs/segmentation.md).
 #include <CLI/CLI.hpp>
 
+#include "config/validate.hpp"
 #include "core/log.hpp"
 #include "fusion_node.hpp"
 #include "service/service.hpp"
@@ -13,6 +14,7 @@ int main(int argc, char** argv) {
         "joined by frame with a detection deadline"};
     df::service::ConfigFlags flags;
     df::service::add_config_flags(app, &flags);
+    app.footer(df::config::options_help(df::config::FusionServiceConfig::descriptor()));
     CLI11_PARSE(app, argc, argv);
     df::service::install_stop_handlers();
     df::config::FusionServiceConfig config;

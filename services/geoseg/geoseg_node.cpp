@@ -18,6 +18,7 @@ double ms_since(int64_t start_ns) { return static_cast<double>(now_ns() - start_
 struct Pending {
     io::RgbdImage image;
     df_msg_Header header;
+    bool valid = true;  ///< false: the sample failed its check (answered as failed)
 };
 
 }  // namespace
@@ -101,13 +102,6 @@ void GeosegNode::answer(const df_msg_Header& header, df_msg_FrameStatus status) 
 
 void GeosegNode::handle(const io::RgbdImage& image, const df_msg_Header& header) {
     const int64_t t0 = now_ns();
-    if (static_cast<size_t>(image.depth.total()) > df_msg_MAX_PIXELS) {
-        log::error("seq=", header.seq, " frame of ", image.depth.cols, "x", image.depth.rows,
-                   " exceeds MAX_PIXELS");
-        ++failed_;
-        answer(header, df_msg_FRAME_FAILED);
-        return;
-    }
     auto frame = slam::preprocess(image, preprocess_);
     if (!frame) {
         log::error("seq=", header.seq, " ", frame.status().message());
@@ -165,7 +159,7 @@ void GeosegNode::handle(const io::RgbdImage& image, const df_msg_Header& header)
 
 Status GeosegNode::run() {
     log::info("waiting for frames on ", frames_.topic());
-    service::StreamEnd stream(config_.idle_exit_s());
+    service::StreamEnd stream(config_.idle_exit_s(), config_.writers_grace_s());
     while (!service::stop_requested()) {
         auto woke = waitset_.wait(DDS_MSECS(100));
         if (!woke) return woke.status();
@@ -173,13 +167,20 @@ Status GeosegNode::run() {
         auto taken = frames_.take(
             [&](const df_msg_RgbdFrame& f, const dds_sample_info_t& info) {
                 if (!info.valid_data) return;
-                pending.push_back({dds::to_image(f), f.header});
+                auto frame = dds::accept(f, frames_.get(), frames_.topic(), info, rejects_);
+                if (frame)
+                    pending.push_back({dds::to_image(*frame), f.header});
+                else
+                    pending.push_back({{}, f.header, false});
             },
             16);
         if (!taken) return taken.status();
         for (size_t i = 0; i < pending.size(); ++i) {
             stream.on_input();
-            if (i + 1 < pending.size()) {
+            if (!pending[i].valid) {
+                ++failed_;
+                answer(pending[i].header, df_msg_FRAME_FAILED);
+            } else if (i + 1 < pending.size()) {
                 ++skipped_;
                 answer(pending[i].header, df_msg_FRAME_SKIPPED);
             } else {

@@ -7,6 +7,7 @@
 
 #include "dds/participant.hpp"
 #include "dds/reader.hpp"
+#include "dds/sample_check.hpp"
 #include "dds/waitset.hpp"
 #include "dds/writer.hpp"
 #include "df_msgs.h"
@@ -46,6 +47,7 @@ class GeosegNode {
     dds::Writer<df_msg_GeometricSegments> segments_;
     dds::Writer<df_msg_StageStatus> status_;
     dds::WaitSet waitset_;
+    dds::RejectLog rejects_;
     uint64_t processed_ = 0, skipped_ = 0, failed_ = 0;
 };
 

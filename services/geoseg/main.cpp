@@ -2,6 +2,7 @@
 // <ns>/geometric_segments and <ns>/stage_status for every frame (docs/segmentation.md).
 #include <CLI/CLI.hpp>
 
+#include "config/validate.hpp"
 #include "core/log.hpp"
 #include "geoseg_node.hpp"
 #include "service/service.hpp"
@@ -13,6 +14,7 @@ int main(int argc, char** argv) {
         "DDS service"};
     df::service::ConfigFlags flags;
     df::service::add_config_flags(app, &flags);
+    app.footer(df::config::options_help(df::config::GeosegServiceConfig::descriptor()));
     CLI11_PARSE(app, argc, argv);
     df::service::install_stop_handlers();
     df::config::GeosegServiceConfig config;

@@ -7,12 +7,13 @@
 #include <csignal>
 #include <cstdio>
 
+#include "config/validate.hpp"
 #include "core/log.hpp"
 #include "offline.hpp"
 #include "service/service.hpp"
 #include "slam_node.hpp"
-#include "slam_params.hpp"
 #include "slam_system/parameters.hpp"
+#include "slam_system/slam_params.hpp"
 
 namespace {
 
@@ -22,7 +23,7 @@ void on_sigusr1(int) { g_save_request.store(true); }
 
 int run_service(const df::config::SlamServiceConfig& config) {
     df::slam::SystemConfig system_config;
-    if (auto s = df::slam_service::apply(config.slam(), &system_config); !s) {
+    if (auto s = df::slam::apply(config.slam(), &system_config); !s) {
         df::log::error(s.message());
         return 2;
     }
@@ -40,8 +41,8 @@ int run_service(const df::config::SlamServiceConfig& config) {
         df::log::error(participant.status().message());
         return 1;
     }
-    auto node = df::slam_service::SlamNode::create(config, system_config, *participant,
-                                                   &g_save_request);
+    auto node =
+        df::slam_service::SlamNode::create(config, system_config, *participant, &g_save_request);
     if (!node) {
         df::log::error(node.status().message());
         return 1;
@@ -57,13 +58,15 @@ int run_service(const df::config::SlamServiceConfig& config) {
 
 int main(int argc, char** argv) {
     df::log::set_component("slam");
-    CLI::App app{"df_slam: dense surfel SLAM over RGB-D frames (offline over a folder, or as the "
-                 "pipeline's SLAM service)"};
+    CLI::App app{
+        "df_slam: dense surfel SLAM over RGB-D frames (offline over a folder, or as the "
+        "pipeline's SLAM service)"};
     app.require_subcommand(1);
     df::service::ConfigFlags flags;
 
-    CLI::App* offline = app.add_subcommand("offline", "run over a TUM-format folder, write "
-                                                      "trajectory, map, timings, print ATE");
+    CLI::App* offline = app.add_subcommand("offline",
+                                           "run over a TUM-format folder, write "
+                                           "trajectory, map, timings, print ATE");
     df::slam_service::OfflineOptions options;
     offline->add_option("folder", options.folder, "TUM RGB-D folder (or df_make_sequence output)")
         ->required();
@@ -73,11 +76,28 @@ int main(int argc, char** argv) {
                         "else fr3)");
     offline->add_option("--max-frames", options.max_frames, "stop after this many frames");
     offline->add_option("--masks", options.masks,
-                        "folder of per-frame masks <stamp>.png (non-zero = leave out of "
-                        "tracking and fusion), e.g. a generated sequence's instances/");
-    offline->add_option("--mask-dilate", options.mask_dilate_px,
-                        "grow the masks by this many pixels")
+                        "ground-truth masks: a folder of per-frame <stamp>.png (non-zero = leave "
+                        "out of tracking and fusion), e.g. a generated sequence's instances/; "
+                        "replaces segmentation, detection and motion segmentation");
+    offline
+        ->add_option("--mask-dilate", options.mask_dilate_px, "grow the masks by this many pixels")
         ->check(CLI::Range(0, 32));
+    offline
+        ->add_option("--dynamics", options.dynamics,
+                     "on: the whole system (segmentation, detection, motion segmentation, "
+                     "two-stage tracking); off: the static core alone (for comparisons)")
+        ->check(CLI::IsMember({"on", "off"}));
+    offline
+        ->add_option("--detector", options.detector,
+                     "yolov5 (the detector's configuration: detector { ... }), simulated "
+                     "(SIMULATED: boxes from a generated sequence's ground truth), or none "
+                     "(motion segmentation alone)")
+        ->check(CLI::IsMember({"yolov5", "simulated", "none"}));
+    offline->add_option("--write-masks", options.write_masks,
+                        "write invalid/, motion/ and objects/ label PNGs per frame (default true)");
+    offline->add_flag("--overlay", options.overlay,
+                      "also write overlay/<stamp>.png: the colour image with what was left out "
+                      "tinted, boxes and class names drawn");
     offline->add_option("--groundtruth", options.groundtruth,
                         "ground truth for the ATE (default: <folder>/groundtruth.txt)");
 
@@ -91,14 +111,9 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
 
     if (params->parsed()) {
-        df::slam::SystemConfig config;
-        std::printf("# slam { <section> { <field>: value } } in a service config, or\n"
-                    "# --set 'slam { <section> { <field>: value } }'\n");
-        for (const df::slam::Parameter& p : df::slam::parameters(&config)) {
-            std::printf("%-42s %-10s %-14s %s\n", p.name.c_str(),
-                        df::slam::value_text(p).c_str(), p.unit.empty() ? "-" : p.unit.c_str(),
-                        p.meaning.c_str());
-        }
+        std::fputs(df::slam::params_table(df::slam::SystemConfig{}).c_str(), stdout);
+        std::printf("\n# the service's own options (df_slam run / offline):\n%s",
+                    df::config::options_help(df::config::SlamServiceConfig::descriptor()).c_str());
         return 0;
     }
     df::service::install_stop_handlers();

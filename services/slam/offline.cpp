@@ -8,46 +8,41 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include <future>
+#include <optional>
+
+#include "boxes/box_source.hpp"
 #include "capture.pb.h"
+#include "detect/detector.hpp"
+#include "mask_outputs.hpp"
+#include "seg/frame_segmenter.hpp"
 #include "core/log.hpp"
 #include "eval/trajectory_metrics.hpp"
+#include "io/tum/intrinsics_file.hpp"
+#include "io/tum/stamp.hpp"
 #include "run_outputs.hpp"
 #include "service/service.hpp"
-#include "slam_params.hpp"
 #include "slam_system/parameters.hpp"
+#include "slam_system/slam_params.hpp"
 #include "source.hpp"
 
 namespace df::slam_service {
 namespace {
 
-/// Reads "<folder>/intrinsics.txt" as df_make_sequence writes it ("fx fy cx cy width height
-/// depth_units_per_m", '#' comments). False when there is no such file.
+/// Takes "<folder>/intrinsics.txt" (io::read_intrinsics_file, every value checked) into the
+/// capture config: intrinsics, image size and depth scale. False when there is no such file.
 Result<bool> read_sequence_intrinsics(const std::string& folder, config::CaptureConfig* c) {
-    const std::string file = folder + "/intrinsics.txt";
-    std::ifstream in(file);
-    if (!in) return false;
-    std::string line;
-    int number = 0;
-    while (std::getline(in, line)) {
-        ++number;
-        if (line.empty() || line[0] == '#') continue;
-        std::istringstream s(line);
-        double fx, fy, cx, cy, units;
-        int width, height;
-        if (!(s >> fx >> fy >> cx >> cy >> width >> height >> units) || fx <= 0 || fy <= 0 ||
-            units <= 0) {
-            return error(StatusCode::kInvalidArgument,
-                         file + ":" + std::to_string(number) +
-                             ": expected 'fx fy cx cy width height depth_units_per_m'");
-        }
-        c->set_fx(fx);
-        c->set_fy(fy);
-        c->set_cx(cx);
-        c->set_cy(cy);
-        c->set_depth_units_per_m(units);
-        return true;
-    }
-    return error(StatusCode::kInvalidArgument, file + ": no intrinsics line");
+    auto file = io::read_intrinsics_file(folder + "/intrinsics.txt");
+    if (!file && file.status().code() == StatusCode::kNotFound) return false;
+    if (!file) return file.status();
+    c->set_fx(file->intrinsics.fx);
+    c->set_fy(file->intrinsics.fy);
+    c->set_cx(file->intrinsics.cx);
+    c->set_cy(file->intrinsics.cy);
+    c->set_width(static_cast<uint32_t>(file->width));
+    c->set_height(static_cast<uint32_t>(file->height));
+    c->set_depth_units_per_m(file->depth_units_per_m);
+    return true;
 }
 
 Status input_config(const OfflineOptions& o, config::CaptureConfig* c) {
@@ -66,15 +61,15 @@ Status input_config(const OfflineOptions& o, config::CaptureConfig* c) {
     return Status::ok();
 }
 
-/// The mask of the frame stamped `sensor_ns`, from options.masks (see OfflineOptions).
-Result<cv::Mat> read_mask(const OfflineOptions& o, const io::RgbdImage& image) {
-    char name[64];
-    std::snprintf(name, sizeof name, "%.6f.png", static_cast<double>(image.sensor_ns) * 1e-9);
-    const std::string file = o.masks + "/" + name;
+/// The masks of the frame stamped `sensor_ns`, from options.masks (see OfflineOptions): a
+/// 16-bit instance image (or any single-channel image, non-zero = left out), every id an
+/// instance of unknown kind, grown by options.mask_dilate_px.
+Result<dynamics::FrameSegments> read_masks(const OfflineOptions& o, const io::RgbdImage& image) {
+    const std::string file = o.masks + "/" + io::stamp_text(image.sensor_ns) + ".png";
     if (!std::filesystem::exists(file)) {
         return error(StatusCode::kNotFound, "no mask " + file + " for this frame");
     }
-    const cv::Mat raw = cv::imread(file, cv::IMREAD_UNCHANGED);
+    cv::Mat raw = cv::imread(file, cv::IMREAD_UNCHANGED);
     if (raw.empty() || raw.channels() != 1) {
         return error(StatusCode::kInvalidArgument,
                      "mask " + file + " is not a readable single-channel PNG");
@@ -85,13 +80,65 @@ Result<cv::Mat> read_mask(const OfflineOptions& o, const io::RgbdImage& image) {
                          std::to_string(raw.rows) + ", the frame " +
                          std::to_string(image.depth.cols) + "x" + std::to_string(image.depth.rows));
     }
-    cv::Mat mask = raw != 0;
+    if (raw.type() != CV_16UC1) raw = raw != 0;
     if (o.mask_dilate_px > 0) {
         const int k = 2 * o.mask_dilate_px + 1;
-        cv::dilate(mask, mask, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k)));
+        cv::dilate(raw, raw, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k)));
     }
-    return mask;
+    dynamics::FrameSegments segments;
+    segments.objects = dynamics::from_labels(raw, dynamics::ObjectKind::kUnknown);
+    return segments;
 }
+
+/// Where a frame's segments come from: ground-truth masks, or geometric segmentation and (on
+/// its own thread) detection fused as df_geoseg and df_fusion do.
+class Segmenter {
+  public:
+    static Result<Segmenter> open(const OfflineOptions& o, const config::SlamServiceConfig& c) {
+        Segmenter s;
+        s.options_ = o;
+        if (!o.masks.empty() || o.dynamics == "off" || o.detector == "none") return s;
+        config::DetectorServiceConfig d = c.detector();
+        if (o.detector == "simulated") {
+            d.set_model("simulated");
+            d.set_sim_sequence(o.folder);
+        }
+        auto source = boxes::open_source(d);
+        if (!source) return source.status().with_context("detector");
+        s.boxes_ = std::move(source).value();
+        log::info("detector: ", s.boxes_->describe(), " (own thread)");
+        return s;
+    }
+
+    /// The segments of `image` (frame `seq`); an error names the frame's file or stage.
+    Result<dynamics::FrameSegments> segment(const io::RgbdImage& image, uint64_t seq) {
+        if (!options_.masks.empty()) return read_masks(options_, image);
+        if (options_.dynamics == "off") return dynamics::FrameSegments{};
+        std::future<Result<std::vector<detect::Detection>>> boxes;
+        if (boxes_) {
+            boxes = std::async(std::launch::async,
+                               [this, &image, seq] { return boxes_->detect(image, seq); });
+        }
+        Result<seg::GeometricSegmentation> geometric = seg::segment_depth(image, config_);
+        std::vector<detect::Detection> found;
+        if (boxes_) {
+            Result<std::vector<detect::Detection>> b = boxes.get();
+            if (!b) return b.status().with_context("detector");
+            found = std::move(b).value();
+        }
+        if (!geometric) return geometric.status().with_context("geometric segmentation");
+        const auto kind_of = [this](const detect::Detection& d) {
+            return classes_.kind_of(d.class_name);
+        };
+        return seg::fuse_segments(*geometric, found, kind_of, config_.instances);
+    }
+
+  private:
+    OfflineOptions options_;
+    seg::FrameSegmenterConfig config_;
+    detect::DetectorConfig classes_;  ///< which classes are rigid / non-rigid (df_detect's)
+    std::unique_ptr<boxes::BoxSource> boxes_;
+};
 
 void print_ate(const std::string& gt_file, const std::string& est_file) {
     auto gt = eval::load_trajectory(gt_file);
@@ -113,6 +160,12 @@ void print_ate(const std::string& gt_file, const std::string& est_file) {
 }  // namespace
 
 int run_offline(const OfflineOptions& options, const config::SlamServiceConfig& config) {
+    std::error_code ec;
+    if (!options.groundtruth.empty() &&
+        !std::filesystem::is_regular_file(options.groundtruth, ec)) {
+        log::error("--groundtruth '", options.groundtruth, "' is not a readable file");
+        return 1;
+    }
     config::CaptureConfig input;
     if (Status s = input_config(options, &input); !s) {
         log::error(s.message());
@@ -133,9 +186,31 @@ int run_offline(const OfflineOptions& options, const config::SlamServiceConfig& 
                   options.mask_dilate_px, " px)");
     }
     slam::SystemConfig system_config;
-    if (Status s = apply(config.slam(), &system_config); !s) {
+    if (Status s = slam::apply(config.slam(), &system_config); !s) {
         log::error(s.message());
         return 1;
+    }
+    if (options.dynamics == "off") {
+        system_config.dynamics.use_segments = false;
+        system_config.dynamics.motion_segmentation = false;
+        log::info("dynamics off: the static core alone, every pixel tracked and fused");
+    } else if (!options.masks.empty()) {
+        system_config.dynamics.motion_segmentation = false;
+        log::info("ground-truth masks: motion segmentation off");
+    }
+    auto segmenter = Segmenter::open(options, config);
+    if (!segmenter) {
+        log::error(segmenter.status().message());
+        return 1;
+    }
+    std::optional<MaskOutputs> masks;
+    if (options.write_masks && options.dynamics == "on") {
+        auto m = MaskOutputs::open(options.out_dir, options.overlay);
+        if (!m) {
+            log::error(m.status().message());
+            return 1;
+        }
+        masks.emplace(std::move(*m));
     }
     log::info("SLAM parameters:\n", slam::describe(system_config));
     auto system = slam::SlamSystem::create(system_config);
@@ -161,18 +236,21 @@ int run_offline(const OfflineOptions& options, const config::SlamServiceConfig& 
             ++seq;
             continue;
         }
-        cv::Mat mask;
-        if (!options.masks.empty()) {
-            Result<cv::Mat> m = read_mask(options, read.image);
-            if (!m) {
-                log::error("seq=", seq, " frame skipped: ", m.status().message());
-                ++bad_frames;
-                ++seq;
-                continue;
-            }
-            mask = std::move(m).value();
+        Result<dynamics::FrameSegments> segments = segmenter->segment(read.image, seq);
+        if (!segments && !options.masks.empty()) {
+            log::error("seq=", seq, " frame skipped: ", segments.status().message());
+            ++bad_frames;
+            ++seq;
+            continue;
         }
-        auto report = system->process(read.image, mask);
+        if (!segments) {
+            // Segmentation or detection failed for this frame: tracked with motion
+            // segmentation alone.
+            log::warn("seq=", seq, " no segments (", segments.status().message(),
+                      "): motion segmentation alone");
+            segments = dynamics::FrameSegments{};
+        }
+        auto report = system->process(read.image, *segments);
         if (!report) {
             log::error("seq=", seq, " frame not processed: ", report.status().message());
             ++bad_frames;
@@ -180,6 +258,15 @@ int run_offline(const OfflineOptions& options, const config::SlamServiceConfig& 
             continue;
         }
         outputs->add(seq, *report);
+        if (!report->segments_error.empty())
+            log::warn("seq=", seq, " segments not used: ", report->segments_error);
+        if (masks) {
+            if (Status w = masks->write(read.image, *segments, *report,
+                                        system_config.system.processing_downscale);
+                !w) {
+                log::error("seq=", seq, " ", w.message());
+            }
+        }
         const bool lost = report->tracking.state == slam::TrackingState::kLost;
         if (lost && !was_lost) {
             log::warn("seq=", seq, " tracking lost: ", report->tracking.reason);
@@ -195,6 +282,15 @@ int run_offline(const OfflineOptions& options, const config::SlamServiceConfig& 
                       " surfels=", report->fusion.total, " fused=", report->fusion.fused,
                       " created=", report->fusion.created,
                       " removed=", report->fusion.removed + report->fusion.removed_free_space,
+                      " instances=", segments->objects.instances.size(),
+                      " left_out_px=", cv::countNonZero(report->invalid.tracking.empty()
+                                                            ? cv::Mat::zeros(1, 1, CV_8UC1)
+                                                            : report->invalid.tracking),
+                      " motion_px=", report->motion.mask_pixels, " (2-means ",
+                      report->motion.clusters.low * 1000, "/", report->motion.clusters.high * 1000,
+                      " mm, ", report->motion.dynamic_pixels, " px above, ",
+                      report->motion.segments, " segments)",
+                      " stage2=", report->stage2_ran ? slam::to_string(report->stage2.state) : "no",
                       " total_ms=", report->times.total_ms);
         }
         ++seq;

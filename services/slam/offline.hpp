@@ -23,6 +23,14 @@ struct OfflineOptions {
     /// this is ground-truth (simulated) segmentation, an upper bound for issue 5's masks.
     std::string masks;
     int mask_dilate_px = 2;  ///< masks grown by this many pixels (object rims have mixed depth)
+    /// "on": geometric segmentation, detection, box-and-segment fusion, motion segmentation,
+    /// two-stage tracking (what the pipeline runs); "off": the static core, masks ignored.
+    std::string dynamics = "on";
+    /// "yolov5" (config.detector()), "simulated" (SIMULATED boxes from the folder's ground
+    /// truth: generated sequences only) or "none" (motion segmentation alone).
+    std::string detector = "yolov5";
+    bool write_masks = true;  ///< per-frame label PNGs (mask_outputs.hpp)
+    bool overlay = false;     ///< and overlay pictures
 };
 
 /// Runs to the end of the folder; returns the process exit code (0 ok, 1 failure).

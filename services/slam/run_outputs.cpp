@@ -1,5 +1,7 @@
 #include "run_outputs.hpp"
 
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -14,23 +16,45 @@ StageFigures figures(const std::vector<double>& values_ms) {
     return {eval::percentile(values_ms, 50), eval::percentile(values_ms, 95)};
 }
 
-Result<RunOutputs> RunOutputs::open(const std::string& dir) {
+Result<RunOutputs> RunOutputs::open(const std::string& dir, bool resume) {
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec) {
         return error(StatusCode::kIoError,
                      "cannot create the output folder '" + dir + "': " + ec.message());
     }
+    const char* mode = resume ? "a" : "w";
     const std::string file = dir + "/timings.log";
-    std::FILE* f = std::fopen(file.c_str(), "w");
+    std::FILE* f = std::fopen(file.c_str(), mode);
     if (f == nullptr) {
         return error(StatusCode::kIoError, "cannot write '" + file + "'");
     }
-    return RunOutputs(dir, f);
+    const std::string traj = dir + "/trajectory.txt";
+    if (!resume) {
+        if (std::FILE* empty = std::fopen(traj.c_str(), "w")) std::fclose(empty);
+    }
+    // Append mode (O_APPEND): each line lands at the end, also after finish() rewrote the file.
+    std::FILE* t = std::fopen(traj.c_str(), "a");
+    if (t == nullptr) {
+        std::fclose(f);
+        return error(StatusCode::kIoError, "cannot append to '" + traj + "'");
+    }
+    return RunOutputs(dir, f, t);
 }
 
-RunOutputs::RunOutputs(std::string dir, std::FILE* timings)
-    : dir_(std::move(dir)), timings_(timings, [](std::FILE* f) { std::fclose(f); }) {}
+RunOutputs::RunOutputs(std::string dir, std::FILE* timings, std::FILE* trajectory)
+    : dir_(std::move(dir)),
+      timings_(timings, [](std::FILE* f) { std::fclose(f); }),
+      trajectory_(trajectory, [](std::FILE* f) { std::fclose(f); }) {}
+
+void RunOutputs::append_pose(const io::StampedPose& p) {
+    // The line format of io::write_tum_trajectory, so the appended file reads back the same.
+    const Eigen::Quaterniond q = p.q.normalized();
+    std::fprintf(trajectory_.get(), "%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", p.stamp_s,
+                 p.t.x() + 0.0, p.t.y() + 0.0, p.t.z() + 0.0, q.x() + 0.0, q.y() + 0.0, q.z() + 0.0,
+                 q.w() + 0.0);
+    std::fflush(trajectory_.get());
+}
 
 void RunOutputs::add(uint64_t seq, const slam::FrameReport& report) {
     const slam::StageTimes& t = report.times;
@@ -38,7 +62,17 @@ void RunOutputs::add(uint64_t seq, const slam::FrameReport& report) {
         eval::format_timing_line(static_cast<int64_t>(seq), "slam", t.steps()) + "\n";
     std::fputs(line.c_str(), timings_.get());
     preprocess_ms_.push_back(t.preprocess_ms);
-    if (!report.first) tracking_ms_.push_back(t.tracking_ms);
+    if (!report.first) {
+        tracking_ms_.push_back(t.tracking_ms);
+        stage1_ms_.push_back(t.stage1_ms);
+        motion_ms_.push_back(t.motion_ms);
+        stage2_ms_.push_back(t.stage2_ms);
+        // Of the pixels motion segmentation looked at (a depth and a model point, not an
+        // instance left out), the fraction it flagged as moving.
+        if (report.motion.residual_pixels > 0)
+            motion_fraction_.push_back(static_cast<double>(report.motion.mask_pixels) /
+                                       report.motion.residual_pixels);
+    }
     if (report.fused) {
         fusion_ms_.push_back(t.fusion_ms);
         prediction_ms_.push_back(t.prediction_ms);
@@ -56,14 +90,19 @@ Status RunOutputs::finish(const slam::SlamSystem& system, bool stable_only, doub
 
     const map::SurfelMap& m = system.static_map();
     std::ostringstream j;
-    j << "{\n  \"frames\": " << system.frames() << ",\n  \"tracked\": "
-      << system.trajectory().size() << ",\n  \"lost\": " << system.lost_frames()
-      << ",\n  \"wall_s\": " << wall_s << ",\n  \"fps\": "
-      << (wall_s > 0 ? static_cast<double>(system.frames()) / wall_s : 0.0)
+    j << "{\n  \"frames\": " << system.frames()
+      << ",\n  \"tracked\": " << system.trajectory().size()
+      << ",\n  \"lost\": " << system.lost_frames() << ",\n  \"wall_s\": " << wall_s
+      << ",\n  \"fps\": " << (wall_s > 0 ? static_cast<double>(system.frames()) / wall_s : 0.0)
       << ",\n  \"stages_ms\": {";
     const std::pair<const char*, const std::vector<double>*> stages[] = {
-        {"preprocess", &preprocess_ms_}, {"tracking", &tracking_ms_},
-        {"fusion", &fusion_ms_},         {"prediction", &prediction_ms_},
+        {"preprocess", &preprocess_ms_},
+        {"tracking", &tracking_ms_},
+        {"stage1", &stage1_ms_},
+        {"motion", &motion_ms_},
+        {"stage2", &stage2_ms_},
+        {"fusion", &fusion_ms_},
+        {"prediction", &prediction_ms_},
         {"total", &total_ms_}};
     bool comma = false;
     for (const auto& [name, values] : stages) {
@@ -72,7 +111,18 @@ Status RunOutputs::finish(const slam::SlamSystem& system, bool stable_only, doub
           << ", \"p95\": " << f.p95_ms << ", \"count\": " << values->size() << "}";
         comma = true;
     }
-    j << "\n  },\n  \"surfels\": " << m.size() << ",\n  \"stable_surfels\": " << m.stable_count()
+    double fraction_sum = 0, fraction_max = 0;
+    size_t flagged = 0;
+    for (double f : motion_fraction_) {
+        fraction_sum += f;
+        fraction_max = std::max(fraction_max, f);
+        flagged += f > 0;
+    }
+    j << "\n  },\n  \"motion_fraction\": {\"mean\": "
+      << (motion_fraction_.empty() ? 0.0 : fraction_sum / motion_fraction_.size())
+      << ", \"max\": " << fraction_max << ", \"frames_flagged\": " << flagged
+      << ", \"frames\": " << motion_fraction_.size() << "}";
+    j << ",\n  \"surfels\": " << m.size() << ",\n  \"stable_surfels\": " << m.stable_count()
       << ",\n  \"map_bytes\": " << m.size() * sizeof(map::Surfel)
       << ",\n  \"surfels_rejected_by_capacity\": " << m.total_rejected_by_capacity()
       << ",\n  \"map_growth\": [";

@@ -1,6 +1,8 @@
 #pragma once
 /// What a SLAM run leaves behind, shared by the offline command and the service:
-///   <dir>/trajectory.txt  TUM trajectory of the tracked frames
+///   <dir>/trajectory.txt  TUM trajectory of the tracked frames: appended (and flushed) one line
+///                         per tracked frame as the run goes, rewritten whole by finish()
+///   <dir>/checkpoint.bin  the SLAM state every checkpoint_s (slam_system/checkpoint.hpp)
 ///   <dir>/map.ply         the static map (binary PLY: position, normal, colour, radius,
 ///                         confidence)
 ///   <dir>/timings.log     one "timing seq=N stage=slam preprocess=.. tracking=.. ..." per frame
@@ -18,8 +20,13 @@ namespace df::slam_service {
 
 class RunOutputs {
   public:
-    /// Creates `dir` (and parents). kIoError naming the folder or file when it cannot.
-    static Result<RunOutputs> open(const std::string& dir);
+    /// Creates `dir` (and parents). resume: keep trajectory.txt and timings.log and append to
+    /// them (a run that goes on from a checkpoint); else both start empty. kIoError naming the
+    /// folder or file when it cannot.
+    static Result<RunOutputs> open(const std::string& dir, bool resume = false);
+
+    /// Appends one pose to trajectory.txt and flushes it, so a crash loses no estimated pose.
+    void append_pose(const io::StampedPose& pose);
 
     /// Records one frame: appends its timing line, keeps its stage times and map size.
     void add(uint64_t seq, const slam::FrameReport& report);
@@ -32,13 +39,17 @@ class RunOutputs {
     std::string trajectory_file() const { return dir_ + "/trajectory.txt"; }
     std::string map_file() const { return dir_ + "/map.ply"; }
     std::string summary_file() const { return dir_ + "/summary.json"; }
+    std::string checkpoint_file() const { return dir_ + "/checkpoint.bin"; }
 
   private:
-    explicit RunOutputs(std::string dir, std::FILE* timings);
+    RunOutputs(std::string dir, std::FILE* timings, std::FILE* trajectory);
 
     std::string dir_;
     std::shared_ptr<std::FILE> timings_;
+    std::shared_ptr<std::FILE> trajectory_;  // O_APPEND: lines land after finish()'s rewrite
     std::vector<double> preprocess_ms_, tracking_ms_, fusion_ms_, prediction_ms_, total_ms_;
+    std::vector<double> stage1_ms_, motion_ms_, stage2_ms_;  ///< parts of tracking_ms_
+    std::vector<double> motion_fraction_;  ///< per frame: flagged / looked-at pixels
     struct MapSample {
         uint64_t frame;
         size_t surfels;

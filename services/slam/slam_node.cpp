@@ -1,14 +1,22 @@
 #include "slam_node.hpp"
 
 #include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <opencv2/imgproc.hpp>
 #include <vector>
 
 #include "core/log.hpp"
 #include "dds/msg_convert.hpp"
+#include "io/tum/trajectory.hpp"
 #include "service/service.hpp"
+#include "slam_system/checkpoint.hpp"
 
 namespace df::slam_service {
 namespace {
+
+/// History of the object_segments and geometric_segments readers (messages kept until taken).
+constexpr int32_t kCompanionDepth = 64;
 
 int64_t now_ns() {
     return std::chrono::duration_cast<std::chrono::nanoseconds>(
@@ -27,11 +35,6 @@ df_msg_Pose to_msg(const Eigen::Isometry3d& pose) {
                        q.w()};
 }
 
-struct Pending {
-    io::RgbdImage image;
-    df_msg_Header header;
-};
-
 }  // namespace
 
 Result<std::unique_ptr<SlamNode>> SlamNode::create(const config::SlamServiceConfig& config,
@@ -42,46 +45,178 @@ Result<std::unique_ptr<SlamNode>> SlamNode::create(const config::SlamServiceConf
     auto frames = dds::Reader<df_msg_RgbdFrame>::create(participant,
                                                         dds::topic_name(ns, dds::topics::kFrames));
     if (!frames) return frames.status();
-    auto poses = dds::Writer<df_msg_CameraPose>::create(
-        participant, dds::topic_name(ns, dds::topics::kCameraPose));
-    if (!poses) return poses.status();
-    auto status = dds::Writer<df_msg_StageStatus>::create(
-        participant, dds::topic_name(ns, dds::topics::kStageStatus));
-    if (!status) return status.status();
     auto waitset = dds::WaitSet::create(participant);
     if (!waitset) return waitset.status();
     DF_RETURN_IF_ERROR(waitset->attach_reader(frames->get()));
-    return std::unique_ptr<SlamNode>(new SlamNode(config, system_config, std::move(*frames),
-                                                  std::move(*poses), std::move(*status),
-                                                  std::move(*waitset), save_request));
+    std::optional<dds::Reader<df_msg_ObjectSegments>> objects;
+    std::optional<dds::Reader<df_msg_GeometricSegments>> geometric;
+    if (config.use_segments()) {
+        // Deep enough for a burst: fusion releases every waiting frame at once when the
+        // detector leaves (up to its max_pending, 30).
+        const dds::EndpointOptions companions{dds::QosProfile::kResults, kCompanionDepth};
+        auto o = dds::Reader<df_msg_ObjectSegments>::create(
+            participant, dds::topic_name(ns, dds::topics::kObjectSegments), companions);
+        if (!o) return o.status();
+        DF_RETURN_IF_ERROR(waitset->attach_reader(o->get()));
+        objects.emplace(std::move(*o));
+        auto g = dds::Reader<df_msg_GeometricSegments>::create(
+            participant, dds::topic_name(ns, dds::topics::kGeometricSegments), companions);
+        if (!g) return g.status();
+        DF_RETURN_IF_ERROR(waitset->attach_reader(g->get()));
+        geometric.emplace(std::move(*g));
+    }
+    auto poses = dds::Writer<df_msg_CameraPose>::create(
+        participant, dds::topic_name(ns, dds::topics::kCameraPose));
+    if (!poses) return poses.status();
+    std::optional<dds::Writer<df_msg_ObjectSegments>> invalid;
+    if (config.publish_invalid_mask()) {
+        auto w = dds::Writer<df_msg_ObjectSegments>::create(
+            participant, dds::topic_name(ns, dds::topics::kInvalidMask));
+        if (!w) return w.status();
+        invalid.emplace(std::move(*w));
+    }
+    auto status = dds::Writer<df_msg_StageStatus>::create(
+        participant, dds::topic_name(ns, dds::topics::kStageStatus));
+    if (!status) return status.status();
+    return std::unique_ptr<SlamNode>(new SlamNode(
+        config, system_config, std::move(*frames), std::move(objects), std::move(geometric),
+        std::move(*poses), std::move(invalid), std::move(*status), std::move(*waitset),
+        save_request));
 }
 
 SlamNode::SlamNode(const config::SlamServiceConfig& config, const slam::SystemConfig& system_config,
-                   dds::Reader<df_msg_RgbdFrame> frames, dds::Writer<df_msg_CameraPose> poses,
+                   dds::Reader<df_msg_RgbdFrame> frames,
+                   std::optional<dds::Reader<df_msg_ObjectSegments>> objects,
+                   std::optional<dds::Reader<df_msg_GeometricSegments>> geometric,
+                   dds::Writer<df_msg_CameraPose> poses,
+                   std::optional<dds::Writer<df_msg_ObjectSegments>> invalid,
                    dds::Writer<df_msg_StageStatus> status, dds::WaitSet waitset,
                    std::atomic<bool>* save_request)
     : config_(config),
       system_config_(system_config),
       frames_(std::move(frames)),
+      objects_(std::move(objects)),
+      geometric_(std::move(geometric)),
       poses_(std::move(poses)),
+      invalid_(std::move(invalid)),
       status_(std::move(status)),
       waitset_(std::move(waitset)),
+      join_(2, static_cast<int64_t>(config.segments_deadline_ms() * 1e6),
+            /*max_pending=*/30),
       save_request_(save_request) {}
 
-Status SlamNode::start_stream() {
-    auto system = slam::SlamSystem::create(system_config_);
-    if (!system) return system.status();
+bool SlamNode::resume_from_checkpoint() {
+    const std::string& dir = config_.output().dir();
+    if (dir.empty() || !config_.resume()) return false;
+    const std::string file = dir + "/checkpoint.bin";
+    const std::string trajectory = dir + "/trajectory.txt";
+    auto checkpoint = slam::read_checkpoint(file);
+    if (!checkpoint) {
+        if (checkpoint.status().code() == StatusCode::kNotFound) return false;
+        std::error_code ec;
+        const std::string kept = dir + "/trajectory.before-restart.txt";
+        std::filesystem::rename(trajectory, kept, ec);
+        log::error(checkpoint.status().message(), "; ignored, starting with an empty map",
+                   ec ? "" : " (the earlier trajectory is kept as " + kept + ")");
+        return false;
+    }
+    slam::SystemState& state = checkpoint->system;
+    // Poses appended after the checkpoint was taken were estimated too: keep them.
+    const double last_s = state.trajectory.empty() ? -1.0 : state.trajectory.back().stamp_s;
+    size_t carried = 0;
+    if (auto appended = io::read_tum_trajectory(trajectory)) {
+        for (const io::StampedPose& p : appended->poses) {
+            if (p.stamp_s <= last_s + 0.5e-6) continue;  // the file has microseconds
+            state.trajectory.push_back(p);
+            ++carried;
+        }
+    }
+    int64_t after_ns = checkpoint->last_sensor_ns;
+    if (carried > 0) {
+        after_ns = std::max(
+            after_ns, static_cast<int64_t>(std::llround(state.trajectory.back().stamp_s * 1e9)));
+    }
+    const size_t surfels = state.surfels.size();
+    auto system = slam::SlamSystem::restore(system_config_, std::move(state));
+    if (!system) {
+        log::error("checkpoint '", file, "': ", system.status().message(),
+                   "; ignored, starting with an empty map");
+        return false;
+    }
     system_.emplace(std::move(*system));
-    if (!config_.output().dir().empty()) {
-        auto outputs = RunOutputs::open(config_.output().dir());
-        if (!outputs) return outputs.status();
-        outputs_.emplace(std::move(*outputs));
+    auto outputs = RunOutputs::open(dir, true);
+    if (!outputs) {
+        log::error(outputs.status().message());
+        return false;
+    }
+    outputs_.emplace(std::move(*outputs));
+    resume_after_ns_ = after_ns;
+    have_last_ = true;
+    last_seq_ = checkpoint->last_seq;
+    last_epoch_ = checkpoint->last_epoch;
+    last_sensor_ns_ = checkpoint->last_sensor_ns;
+    log::info("resumed from checkpoint at seq ", checkpoint->last_seq, " (", surfels,
+              " surfels), ", system_->trajectory().size(), " poses (", carried,
+              " of them appended to trajectory.txt after the checkpoint)");
+    return true;
+}
+
+Status SlamNode::start_stream() {
+    if (!resume_from_checkpoint()) {
+        auto system = slam::SlamSystem::create(system_config_);
+        if (!system) return system.status();
+        system_.emplace(std::move(*system));
+        if (!config_.output().dir().empty()) {
+            auto outputs = RunOutputs::open(config_.output().dir());
+            if (!outputs) return outputs.status();
+            outputs_.emplace(std::move(*outputs));
+        }
     }
     stream_start_ns_ = now_ns();
-    skipped_ = failed_ = 0;
+    last_checkpoint_ns_ = 0;  // none yet: the first frame's state is saved at once
+    skipped_ = failed_ = tracked_before_ = 0;
     was_lost_ = false;
     log::info("stream started");
     return Status::ok();
+}
+
+bool SlamNode::already_tracked(const df_msg_Header& header) {
+    if (have_last_ && header.epoch != last_epoch_) {
+        // A restarted capture plays its source again: go on with the same map and trajectory.
+        resume_after_ns_ = std::max(resume_after_ns_, last_sensor_ns_);
+        log::info("seq=", header.seq, " a new capture run (epoch ", header.epoch,
+                  "): the map goes on; frames up to the last tracked one are answered skipped");
+    }
+    have_last_ = true;
+    last_epoch_ = header.epoch;
+    if (resume_after_ns_ < 0) return false;
+    if (static_cast<int64_t>(header.sensor_ns) <= resume_after_ns_) return true;
+    log::info("seq=", header.seq, " tracking on after the restart (", tracked_before_,
+              " frame(s) tracked before it answered skipped)");
+    resume_after_ns_ = -1;
+    return false;
+}
+
+void SlamNode::checkpoint(bool now) {
+    if (!system_ || !outputs_ || !have_last_) return;
+    const double every_s = config_.checkpoint_s();
+    // The first checkpoint comes with the first frame, so a service killed in its first
+    // checkpoint_s resumes (keeping its poses) instead of starting a new map.
+    const bool first = last_checkpoint_ns_ == 0;
+    const double since_s = static_cast<double>(now_ns() - last_checkpoint_ns_) * 1e-9;
+    if (!now && (every_s <= 0 || (!first && since_s < every_s))) return;
+    last_checkpoint_ns_ = now_ns();
+    slam::Checkpoint c;
+    c.system = system_->state();
+    c.last_seq = last_seq_;
+    c.last_epoch = last_epoch_;
+    c.last_sensor_ns = last_sensor_ns_;
+    if (Status s = slam::write_checkpoint(outputs_->checkpoint_file(), c); !s) {
+        log::error("seq=", last_seq_, " ", s.message());
+    } else {
+        log::debug("seq=", last_seq_, " checkpoint written (", c.system.surfels.size(),
+                   " surfels)");
+    }
 }
 
 Status SlamNode::end_stream(const char* why) {
@@ -91,6 +226,7 @@ Status SlamNode::end_stream(const char* why) {
               system_->lost_frames(), " lost, ", skipped_, " skipped to stay current, ", failed_,
               " failed; map ", system_->static_map().size(), " surfels");
     Status written = Status::ok();
+    checkpoint(true);  // a service started again later goes on from here
     if (outputs_) {
         written = outputs_->finish(*system_, config_.output().stable_only(), wall_s);
         if (written) {
@@ -116,14 +252,24 @@ void SlamNode::answer_unprocessed(const df_msg_Header& header, df_msg_FrameStatu
     (void)status_.write_copy(answer);
 }
 
-void SlamNode::handle(const io::RgbdImage& image, const df_msg_Header& header) {
-    auto report = system_->process(image);
+void SlamNode::handle(const io::RgbdImage& image, const df_msg_Header& header,
+                      const dynamics::FrameSegments& segments, const std::string& segments_note) {
+    if (already_tracked(header)) {
+        ++tracked_before_;
+        answer_unprocessed(header, df_msg_FRAME_SKIPPED);
+        return;
+    }
+    const size_t poses_before = system_->trajectory().size();
+    auto report = system_->process(image, segments);
     if (!report) {
         ++failed_;
         log::error("seq=", header.seq, " frame not processed: ", report.status().message());
         answer_unprocessed(header, df_msg_FRAME_FAILED);
         return;
     }
+    if (!segments_note.empty()) log::warn("seq=", header.seq, " ", segments_note);
+    if (!report->segments_error.empty())
+        log::warn("seq=", header.seq, " segments not used: ", report->segments_error);
     const slam::TrackingResult& t = report->tracking;
     const bool lost = t.state == slam::TrackingState::kLost;
     if (lost && !was_lost_) log::warn("seq=", header.seq, " tracking lost: ", t.reason);
@@ -135,6 +281,9 @@ void SlamNode::handle(const io::RgbdImage& image, const df_msg_Header& header) {
                   " icp_rmse_mm=", t.icp_rmse_m * 1000, " surfels=", report->fusion.total,
                   " fused=", report->fusion.fused, " created=", report->fusion.created,
                   " removed=", report->fusion.removed + report->fusion.removed_free_space,
+                  " instances=", segments.objects.instances.size(),
+                  " motion_px=", report->motion.mask_pixels,
+                  " stage2=", report->stage2_ran ? slam::to_string(report->stage2.state) : "no",
                   " total_ms=", report->times.total_ms);
     }
 
@@ -147,6 +296,7 @@ void SlamNode::handle(const io::RgbdImage& image, const df_msg_Header& header) {
     pose.inlier_ratio = t.inlier_ratio;
     pose.residual = t.icp_rmse_m;
     if (Status s = poses_.write_copy(pose); !s) log::warn("seq=", header.seq, " ", s.message());
+    publish_invalid(pose.header, *report, image.depth.size());
 
     df_msg_StageStatus answer{};
     answer.header = pose.header;
@@ -160,35 +310,166 @@ void SlamNode::handle(const io::RgbdImage& image, const df_msg_Header& header) {
         timing.ms = static_cast<float>(ms);
     }
     if (Status s = status_.write_copy(answer); !s) log::warn("seq=", header.seq, " ", s.message());
-    if (outputs_) outputs_->add(header.seq, *report);
+    last_seq_ = header.seq;
+    last_sensor_ns_ = static_cast<int64_t>(header.sensor_ns);
+    if (outputs_) {
+        outputs_->add(header.seq, *report);
+        if (system_->trajectory().size() > poses_before)
+            outputs_->append_pose(system_->trajectory().back());
+    }
+    checkpoint(false);
+}
+
+void SlamNode::publish_invalid(const df_msg_Header& header, const slam::FrameReport& report,
+                               cv::Size frame_size) {
+    if (!invalid_) return;
+    auto loan = invalid_->loan();
+    if (!loan) {
+        log::warn("seq=", header.seq, " no invalid_mask sample: ", loan.status().message());
+        return;
+    }
+    dynamics::LabelImage labels = report.invalid.labels;
+    if (!labels.labels.empty() && labels.labels.size() != frame_size) {
+        // At the frame's resolution, as object_segments: boxes and counts scaled alike.
+        const float f = static_cast<float>(frame_size.width) / labels.labels.cols;
+        cv::resize(labels.labels, labels.labels, frame_size, 0, 0, cv::INTER_NEAREST);
+        for (dynamics::InstanceInfo& i : labels.instances) {
+            i.box = cv::Rect2f(i.box.x * f, i.box.y * f, i.box.width * f, i.box.height * f);
+            i.pixels = static_cast<int>(static_cast<float>(i.pixels) * f * f);
+        }
+    }
+    const size_t dropped = dds::fill_object_segments(labels, header, loan->get());
+    if (dropped > 0)
+        log::warn("seq=", header.seq, " invalid_mask: ", dropped, " regions past MAX_INSTANCES");
+    (*loan)->header.status = df_msg_FRAME_OK;
+    if (Status s = invalid_->write(std::move(*loan)); !s)
+        log::warn("seq=", header.seq, " ", s.message());
+}
+
+Status SlamNode::take_inputs(size_t* frames_taken) {
+    const int64_t now = now_ns();
+    // A message of another capture run than the frames being joined: start the join over.
+    const auto epoch_of = [this](const df_msg_Header& h) {
+        if (h.epoch == join_epoch_) return true;
+        if (h.epoch < join_epoch_) return false;  // an earlier run: stale
+        for (auto& [seq, f] : waiting_) answer_unprocessed(f.header, df_msg_FRAME_SKIPPED);
+        waiting_.clear();
+        objects_in_.clear();
+        geometric_in_.clear();
+        join_.reset();
+        join_epoch_ = h.epoch;
+        return true;
+    };
+    auto taken = frames_.take(
+        [&](const df_msg_RgbdFrame& f, const dds_sample_info_t& info) {
+            if (!info.valid_data) return;
+            auto frame = dds::accept(f, frames_.get(), frames_.topic(), info, rejects_);
+            if (!frame) {
+                ++failed_;
+                answer_unprocessed(f.header, df_msg_FRAME_FAILED);
+                return;
+            }
+            if (!epoch_of(f.header)) return;
+            waiting_[f.header.seq] = {dds::to_image(*frame), f.header};
+            join_.on_frame(f.header.seq, now);
+            ++*frames_taken;
+        },
+        16);
+    if (!taken) return taken.status();
+    if (objects_) {
+        join_.set_expected(0, objects_->matched_writers() > 0);
+        auto t = objects_->take(
+            [&](const df_msg_ObjectSegments& m, const dds_sample_info_t& info) {
+                if (!info.valid_data || !epoch_of(m.header)) return;
+                auto checked = dds::accept(m, objects_->get(), objects_->topic(), info, rejects_);
+                const bool ok = checked && m.header.status == df_msg_FRAME_OK;
+                if (ok) objects_in_[m.header.seq] = dds::to_label_image(*checked);
+                join_.on_companion(0, m.header.seq, ok);
+            },
+            16);
+        if (!t) return t.status();
+    } else {
+        join_.set_expected(0, false);
+    }
+    if (geometric_) {
+        join_.set_expected(1, geometric_->matched_writers() > 0);
+        auto t = geometric_->take(
+            [&](const df_msg_GeometricSegments& m, const dds_sample_info_t& info) {
+                if (!info.valid_data || !epoch_of(m.header)) return;
+                auto checked =
+                    dds::accept(m, geometric_->get(), geometric_->topic(), info, rejects_);
+                const bool ok = checked && m.header.status == df_msg_FRAME_OK;
+                if (ok)
+                    geometric_in_[m.header.seq] = {dds::labels_of(*checked),
+                                                   static_cast<int>(m.segment_count)};
+                join_.on_companion(1, m.header.seq, ok);
+            },
+            16);
+        if (!t) return t.status();
+    } else {
+        join_.set_expected(1, false);
+    }
+    // Segments of frames that are gone (released, or never came) are dropped.
+    const uint64_t oldest = waiting_.empty() ? UINT64_MAX : waiting_.begin()->first;
+    const auto trim = [oldest](auto& m) {
+        while (!m.empty() && m.begin()->first < oldest && m.size() > 60) m.erase(m.begin());
+    };
+    trim(objects_in_);
+    trim(geometric_in_);
+    return Status::ok();
 }
 
 Status SlamNode::run() {
-    log::info("waiting for frames on ", frames_.topic());
-    service::StreamEnd stream(config_.idle_exit_s());
+    log::info("waiting for frames on ", frames_.topic(),
+              objects_ ? " with object_segments and geometric_segments (deadline " +
+                             std::to_string(config_.segments_deadline_ms()) + " ms)"
+                       : std::string(" (segments not used)"));
+    service::StreamEnd stream(config_.idle_exit_s(), config_.writers_grace_s());
     while (!service::stop_requested()) {
-        auto woke = waitset_.wait(DDS_MSECS(100));
+        auto woke = waitset_.wait(DDS_MSECS(20));
         if (!woke) return woke.status();
-        std::vector<Pending> pending;
-        auto taken = frames_.take(
-            [&](const df_msg_RgbdFrame& f, const dds_sample_info_t& info) {
-                if (!info.valid_data) return;
-                pending.push_back({dds::to_image(f), f.header});
-            },
-            16);
-        if (!taken) return taken.status();
-        // Stay current: answer older frames as skipped, process the newest.
-        for (size_t i = 0; i < pending.size(); ++i) {
+        size_t frames_taken = 0;
+        DF_RETURN_IF_ERROR(take_inputs(&frames_taken));
+        std::vector<sync::CompanionJoin::Ready> ready = join_.poll(now_ns());
+        // Stay current (a live camera): answer older ready frames as skipped, track the newest.
+        // Without stay_current (recorded sequences) every ready frame is tracked.
+        for (size_t i = 0; i < ready.size(); ++i) {
+            auto it = waiting_.find(ready[i].seq);
+            if (it == waiting_.end()) continue;
+            PendingFrame frame = std::move(it->second);
+            waiting_.erase(it);
             if (!system_) DF_RETURN_IF_ERROR(start_stream());
             last_frame_ns_ = now_ns();
             stream.on_input();
-            if (i + 1 < pending.size()) {
+            if (config_.stay_current() && i + 1 < ready.size()) {
                 ++skipped_;
-                answer_unprocessed(pending[i].header, df_msg_FRAME_SKIPPED);
-            } else {
-                handle(pending[i].image, pending[i].header);
+                answer_unprocessed(frame.header, df_msg_FRAME_SKIPPED);
+                continue;
             }
+            dynamics::FrameSegments segments;
+            const uint64_t seq = ready[i].seq;
+            if (auto o = objects_in_.find(seq); o != objects_in_.end()) {
+                segments.objects = std::move(o->second);
+                objects_in_.erase(o);
+            }
+            if (auto g = geometric_in_.find(seq); g != geometric_in_.end()) {
+                segments.geometric = g->second.first;
+                segments.geometric_count = g->second.second;
+                geometric_in_.erase(g);
+            }
+            std::string note;
+            if (ready[i].late) {
+                ++late_segments_;
+                note = std::string(ready[i].ok[0] ? "" : "object_segments") +
+                       (ready[i].ok[0] || ready[i].ok[1] ? "" : " and ") +
+                       (ready[i].ok[1] ? "" : "geometric_segments") + " not here within " +
+                       std::to_string(config_.segments_deadline_ms()) +
+                       " ms: tracked with what arrived (motion segmentation alone without "
+                       "object segments)";
+            }
+            handle(frame.image, frame.header, segments, note);
         }
+        if (frames_taken > 0) stream.on_input();
         if (save_request_ != nullptr && save_request_->exchange(false) && system_ && outputs_) {
             const double wall_s = static_cast<double>(last_frame_ns_ - stream_start_ns_) * 1e-9;
             if (Status s = outputs_->finish(*system_, config_.output().stable_only(), wall_s); !s)
@@ -196,7 +477,8 @@ Status SlamNode::run() {
             else
                 log::info("outputs written on request to ", outputs_->dir());
         }
-        if (const char* why = stream.check(frames_.matched_writers(), pending.empty())) {
+        if (const char* why =
+                stream.check(frames_.matched_writers(), frames_taken == 0 && waiting_.empty())) {
             stream.reset();
             DF_RETURN_IF_ERROR(end_stream(why));
             if (config_.exit_at_end()) return Status::ok();

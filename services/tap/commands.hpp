@@ -12,6 +12,7 @@ struct CommonOptions {
     double wait_s = 5;  ///< how long to wait for a topic's writer to be discovered
     RunLimits limits;
     int window = 100;  ///< samples in the statistics window (hz, bw, delay)
+    int depth = 16;    ///< reader history: samples kept until taken (a burst beyond it drops)
 };
 
 int cmd_list(const dds::Participant& p, double wait_s);

@@ -1,6 +1,7 @@
 // df_tap: look into the pipeline's topics (the `ros2 topic` of DetectFusion).
 //   df_tap list | echo T | hz T | bw T | delay T | record -o F [T...] | play F
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
 
 #include "commands.hpp"
@@ -35,21 +36,43 @@ int main(int argc, char** argv) {
     CLI::App app{"df_tap: list, echo, hz, bw, delay, record and play DetectFusion topics"};
     app.require_subcommand(1);
     app.fallthrough();  // --wait, --domain... may follow the subcommand
+    // CLI11's NonNegativeNumber lets nan through; seconds and rates must be finite and >= 0.
+    const CLI::Validator finite_non_negative(
+        [](const std::string& text) -> std::string {
+            const double v = std::strtod(text.c_str(), nullptr);
+            return std::isfinite(v) && v >= 0 ? "" : "is " + text + ", allowed: finite and >= 0";
+        },
+        "FINITE >= 0");
+    const CLI::Validator remap_form(
+        [](const std::string& text) -> std::string {
+            const auto eq = text.find('=');
+            return eq != std::string::npos && eq > 0
+                       ? ""
+                       : "'" + text + "' is not FROM=TO (e.g. df/=replay/)";
+        },
+        "FROM=TO");
     df::config::DdsConfig dds;
     std::string transport = "auto";
     uint32_t domain = 0;
     app.add_option("--domain", domain, "DDS domain id")->default_val(0);
     app.add_option("--transport", transport, "auto, shm or udp")->default_val("auto");
+    std::string interfaces;
+    std::vector<std::string> peers;
+    app.add_option("--interfaces", interfaces, "network interfaces, e.g. eth0 (default: loopback)");
+    app.add_option("--peer", peers, "unicast discovery peer address (repeatable)");
     df::tap::CommonOptions common;
     double wait_s = 5;
-    app.add_option("--wait", wait_s, "seconds to wait for discovery")->default_val(5);
+    app.add_option("--wait", wait_s, "seconds to wait for discovery")
+        ->default_val(5)
+        ->check(finite_non_negative);
 
-    auto add_limits = [&common](CLI::App* sub) {
-        sub->add_option("--duration", common.limits.duration_s, "stop after this many seconds");
+    auto add_limits = [&common, &finite_non_negative](CLI::App* sub) {
+        sub->add_option("--duration", common.limits.duration_s, "stop after this many seconds")
+            ->check(finite_non_negative);
         sub->add_option("-n,--count", common.limits.count, "stop after this many messages");
-        sub->add_option(
-            "--idle", common.limits.idle_s,
-            "stop when nothing arrived for this many seconds (after the first message)");
+        sub->add_option("--idle", common.limits.idle_s,
+                        "stop when nothing arrived for this many seconds (after the first message)")
+            ->check(finite_non_negative);
     };
     std::string topic;
     auto* list = app.add_subcommand("list", "topics with types, writers, readers and hosts");
@@ -63,6 +86,11 @@ int main(int argc, char** argv) {
         sub->add_option("topic", topic, "topic name, e.g. df/frames")->required();
         sub->add_option("--window", common.window, "samples in the statistics window")
             ->default_val(100);
+        sub->add_option("--depth", common.depth,
+                        "messages the reader keeps until it takes them (best effort, never slows "
+                        "the writer: a burst longer than this loses its oldest)")
+            ->default_val(16)
+            ->check(CLI::Range(1, 100000));
         add_limits(sub);
     }
     df::tap::RecordOptions rec;
@@ -76,21 +104,29 @@ int main(int argc, char** argv) {
     record->add_flag("--zstd", rec.zstd, "compress chunks with zstd");
     add_limits(record);
     df::tap::PlayOptions play;
-    auto* playc = app.add_subcommand("play", "publish an MCAP recording");
+    auto* playc = app.add_subcommand(
+        "play",
+        "publish an MCAP recording; a message that fails its sample check is logged (file, "
+        "message, field), not published, and play goes on, exiting 1 at the end");
     playc->add_option("input", play.input, "MCAP file")->required()->check(CLI::ExistingFile);
     playc->add_option("-r,--rate", play.rate, "speed factor (0 = as fast as possible)")
-        ->default_val(1.0);
-    playc->add_option("--remap", play.remaps, "rewrite topic prefixes, FROM=TO (repeatable)");
+        ->default_val(1.0)
+        ->check(finite_non_negative);
+    playc->add_option("--remap", play.remaps, "rewrite topic prefixes, FROM=TO (repeatable)")
+        ->check(remap_form);
     playc->add_option("--wait-readers", play.wait_readers,
                       "readers each topic must have before playing");
     playc->add_option("--start-wait", play.start_wait_s, "seconds to wait for those readers")
-        ->default_val(5);
+        ->default_val(5)
+        ->check(finite_non_negative);
     CLI11_PARSE(app, argc, argv);
 
     df::service::install_stop_handlers();
     common.wait_s = wait_s;
     dds.set_domain_id(domain);
     dds.set_transport(transport);
+    dds.set_interfaces(interfaces);
+    for (const auto& peer : peers) dds.add_peers(peer);
     auto participant = df::service::make_participant(dds);
     if (!participant) {
         df::log::error(participant.status().message());

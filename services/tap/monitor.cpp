@@ -16,7 +16,7 @@ namespace {
 
 Result<std::vector<Subscription>> subscribe_one(const dds::Participant& p, const std::string& topic,
                                                 const CommonOptions& o) {
-    auto sub = subscribe(p, topic, o.wait_s);
+    auto sub = subscribe(p, topic, o.wait_s, o.depth);
     if (!sub) return sub.status();
     std::vector<Subscription> subs;
     subs.push_back(std::move(*sub));

@@ -32,7 +32,7 @@ const char* kind_name(df_msg_ObjectKind k) {
 
 void header(std::ostringstream& o, const df_msg_Header& h) {
     o << "header:\n  capture_ns: " << h.capture_ns << "\n  sensor_ns: " << h.sensor_ns
-      << "\n  seq: " << h.seq << "\n  source_id: " << h.source_id
+      << "\n  seq: " << h.seq << "\n  epoch: " << h.epoch << "\n  source_id: " << h.source_id
       << "\n  status: " << status_name(h.status) << "\n";
 }
 

@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "core/log.hpp"
+#include "dds/sample_check.hpp"
 #include "discovery.hpp"
 #include "service/service.hpp"
 
@@ -23,6 +24,22 @@ Result<Subscription> subscribe(const dds::Participant& participant, const std::s
     return Subscription{topic, type, std::move(*reader)};
 }
 
+namespace {
+
+/// Whether a sample passed its check; a rejected one is logged (rate-limited) and not handed on,
+/// so printing, recording or counting never reads past a sample's buffers.
+bool accept(const Subscription& sub, const void* sample, const dds_sample_info_t& info,
+            dds::RejectLog& rejects) {
+    if (!info.valid_data) return true;
+    const Status s = dds::check_sample(*sub.type, sample);
+    if (s) return true;
+    rejects.report(sub.topic, dds::writer_of(sub.reader.get(), info),
+                   static_cast<const df_msg_Header*>(sample)->seq, s);
+    return false;
+}
+
+}  // namespace
+
 Status run_loop(const dds::Participant& participant, std::vector<Subscription>& subs,
                 const RunLimits& limits,
                 const std::function<void(size_t, const void*, const dds_sample_info_t&)>& on_sample,
@@ -36,6 +53,7 @@ Status run_loop(const dds::Participant& participant, std::vector<Subscription>& 
     auto last_sample = start;
     bool any = false;
     uint64_t total = 0;
+    dds::RejectLog rejects;
     while (!service::stop_requested()) {
         auto n = ws->wait(DDS_MSECS(50));
         if (!n) return n.status();
@@ -43,6 +61,7 @@ Status run_loop(const dds::Participant& participant, std::vector<Subscription>& 
             auto taken = dds::take_samples(subs[i].reader.get(), subs[i].type->descriptor,
                                            dds::ReadMode::kZeroCopy, 16,
                                            [&](const void* sample, const dds_sample_info_t& info) {
+                                               if (!accept(subs[i], sample, info, rejects)) return;
                                                if (limits.count == 0 || total < limits.count)
                                                    on_sample(i, sample, info);
                                                ++total;

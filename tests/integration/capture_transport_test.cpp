@@ -64,7 +64,9 @@ Received receive(dds::Participant& p, const std::string& ns,
             got.seqs.push_back(f.header.seq);
             if (k < expected_index.size()) {
                 const io::RgbdImage& e = expected[static_cast<size_t>(expected_index[k])];
-                const cv::Mat rgb = dds::rgb_view(f), depth = dds::depth_view(f);
+                const auto c = dds::checked(f);
+                ASSERT_TRUE(c) << c.status().to_string();
+                const cv::Mat rgb = dds::rgb_view(*c), depth = dds::depth_view(*c);
                 const bool same = f.width == e.rgb.cols && f.height == e.rgb.rows &&
                                   cv::norm(rgb, e.rgb, cv::NORM_INF) == 0 &&
                                   cv::norm(depth, e.depth, cv::NORM_INF) == 0 &&
@@ -101,7 +103,9 @@ std::vector<std::string> capture_args(const std::string& folder, const std::stri
             "--set",
             "start_wait_s: 30",
             "--set",
-            "lockstep_timeout_s: 20"};
+            "lockstep_timeout_s: 20",
+            "--set",  // principal point inside both the 640x480 and the 320x240 test images
+            "cx: 160 cy: 120"};
 }
 
 class CaptureTransport : public ::testing::TestWithParam<std::string> {};
@@ -150,6 +154,7 @@ TEST(CaptureBadInput, CorruptPngCostsOneFrameAndOneErrorLine) {
     ASSERT_TRUE(io::write_tum_folder(seq, frames).is_ok());
     io::TumFolderConfig tc;
     tc.folder = seq;
+    tc.intrinsics = {535.4, 539.2, 160.0, 120.0};  // fits the 320x240 images
     auto source = io::TumFolderSource::open(tc);
     ASSERT_TRUE(source.is_ok());
     const std::string bad = seq + "/" + (*source)->pairs()[4].rgb.path;

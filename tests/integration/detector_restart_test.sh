@@ -22,9 +22,11 @@ service {
 service { name: "fusion" binary: "df_fusion" args: ["--set", "dds { ns: \"\${DF_NS}\" }"] priority: 50 }
 PB
 SUP="$SRC/deploy/dfsup --run-dir $TMP/run"
-$SUP up "$TMP/pipeline.pbtxt" --var "DF_DATA=$TMP/seq" --var "DF_NS=$NS" --var "DF_OUT=$TMP/out"
+$SUP up "$TMP/pipeline.pbtxt" --var "DF_DATA=$TMP/seq" --var "DF_NS=$NS" --var "DF_OUT=$TMP/out" \
+  --var "DF_BUILD=$(dirname "$BIN")"
 trap '$SUP down >/dev/null 2>&1 || true; cleanup' EXIT
-"$BIN/df_tap" echo "$NS/object_segments" -n $N --items 1 >"$TMP/echo.out" 2>"$TMP/echo.err" &
+# Deep history: fusion answers every waiting frame at once when the detector dies.
+"$BIN/df_tap" echo "$NS/object_segments" -n $N --items 1 --depth 256 >"$TMP/echo.out" 2>"$TMP/echo.err" &
 echo_pid=$!; pids+=($echo_pid)
 sleep 2  # services and the echo discover each other
 "$BIN/df_capture" "$TMP/seq" --config "$SRC/deploy/config/capture_realtime.pbtxt" \

@@ -12,3 +12,58 @@ trap cleanup EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
 pass() { echo "ok: $*"; }
 roudi_running() { [ -e /tmp/roudi.lock ] && ! flock -n /tmp/roudi.lock true; }
+
+# --- Tests that run a pipeline under dfsup (their own RouDi, so none may run already).
+# Exits 77 (CTest's skip) when a RouDi runs on this machine.
+need_own_roudi() {
+  if roudi_running; then
+    echo "SKIP: a RouDi is already running on this machine; this test needs to start its own under dfsup"
+    exit 77
+  fi
+}
+# A generated sequence: make_sequence FRAMES [df_make_sequence options...] writes $TMP/seq.
+make_sequence() {
+  local frames="$1"; shift
+  "$BIN/df_make_sequence" --preset default --out "$TMP/seq" --frames "$frames" "$@" >/dev/null 2>&1 \
+    || fail "df_make_sequence failed"
+}
+# The pipeline file's capture service: the test's sequence at its own rate, on the test's namespace.
+capture_service() {
+  cat <<PB
+service {
+  name: "capture"
+  binary: "df_capture"
+  config: "deploy/config/capture_realtime.pbtxt"
+  args: ["\${DF_DATA}", "--set", "dds { ns: \"\${DF_NS}\" }"]
+}
+PB
+}
+# sup_up PIPELINE [RUN_DIR]: dfsup up with run dir RUN_DIR (default $TMP/run) and the test's
+# sequence, namespace, output folder and build; sets RUN and SUP, and brings the pipeline down
+# when the test exits.
+sup_up() {
+  RUN="${2:-$TMP/run}"
+  SUP="$SRC/deploy/dfsup --run-dir $RUN"
+  $SUP up "$1" --var "DF_DATA=$TMP/seq" --var "DF_NS=$NS" --var "DF_OUT=$TMP/out" \
+    --var "DF_BUILD=$(dirname "$BIN")"
+  trap '$SUP down >/dev/null 2>&1 || true; cleanup' EXIT
+}
+# dfsup down (a failure fails the test); the exit trap no longer brings the pipeline down.
+sup_down() {
+  $SUP down || fail "dfsup down exited with $?"
+  trap cleanup EXIT
+}
+# sup_kill_restarted SERVICE: SIGKILLs the service's process and waits (10 s at most) until the
+# supervisor runs it again under a new pid; sets killed_pid and new_pid, fails the test otherwise.
+sup_kill_restarted() {
+  killed_pid=$($SUP status | awk -v s="$1" '$1==s {print $4}')
+  [ -n "$killed_pid" ] && [ "$killed_pid" != 0 ] || fail "no $1 running: $($SUP status)"
+  kill -KILL "$killed_pid"
+  new_pid=
+  for _ in $(seq 200); do
+    new_pid=$($SUP status | awk -v s="$1" '$1==s && $2=="RUNNING" {print $4}')
+    [ -n "$new_pid" ] && [ "$new_pid" != "$killed_pid" ] && return 0
+    sleep 0.05
+  done
+  fail "$1 was not restarted after kill -9 of pid $killed_pid ($($SUP status))"
+}

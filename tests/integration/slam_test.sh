@@ -21,6 +21,19 @@ ate_cm=$(sed -n 's/^ATE RMSE \([0-9.]*\) cm.*/\1/p' "$TMP/off.out")
 [ -n "$ate_cm" ] || fail "no ATE printed: $(cat "$TMP/off.out")"
 awk -v a="$ate_cm" 'BEGIN { exit !(a < 1.0) }' || fail "offline ATE $ate_cm cm >= 1 cm"
 pass "offline: $N poses, ATE $ate_cm cm"
+/usr/bin/python3 - "$TMP/off/summary.json" $N <<'PY' || fail "summary.json: $(cat "$TMP/off/summary.json")"
+import json, sys
+s, n = json.load(open(sys.argv[1])), int(sys.argv[2])
+st = s["stages_ms"]
+for k in ("tracking", "stage1", "motion", "stage2"):  # every frame after the first
+    assert st[k]["count"] == n - 1, f"{k}: {st[k]['count']} frames timed, not {n - 1}"
+for k in ("fusion", "prediction"):  # every frame fused, the first included
+    assert st[k]["count"] == n, f"{k}: {st[k]['count']} frames timed, not {n}"
+# A static scene: motion segmentation flags next to nothing (issue 11: <= 1 % on average).
+m = s["motion_fraction"]
+assert m["frames"] == n - 1 and 0 <= m["mean"] <= 0.01 and m["max"] <= 1, m
+print(f"ok: summary.json: stage parts timed; {100 * m['mean']:.3f} % of pixels flagged moving on a static scene")
+PY
 /usr/bin/python3 - "$TMP/off/map.ply" <<'PY' || exit 1
 import struct, sys
 data = open(sys.argv[1], "rb").read()

@@ -1,25 +1,14 @@
 #!/usr/bin/env bash
 # Capture under the supervisor: RouDi starts first; tap hz shows the sequence's 30 Hz; tap list
-# and echo see the topic; a killed capture is restarted; down stops the services, RouDi last.
+# and echo see the topic (echo with capture's run epoch); a killed capture is restarted, with a
+# later epoch; down stops the services, RouDi last.
 source "$(dirname "$0")/lib.sh"
-if roudi_running; then
-  echo "SKIP: a RouDi is already running on this machine; this test needs to start its own under dfsup"
-  exit 77
-fi
-"$BIN/df_make_sequence" --preset default --out "$TMP/seq" --frames 30 >/dev/null 2>&1
-cat > "$TMP/pipeline.pbtxt" <<PB
-name: "supervisor-test"
-service {
-  name: "capture"
-  binary: "df_capture"
-  config: "deploy/config/capture_realtime.pbtxt"
-  args: ["\${DF_DATA}", "--set", "dds { ns: \"\${DF_NS}\" }"]
-}
-PB
-SUP="$SRC/deploy/dfsup --run-dir $TMP/run"
-$SUP up "$TMP/pipeline.pbtxt" --var "DF_DATA=$TMP/seq" --var "DF_NS=$NS" --var "DF_OUT=$TMP/out"
-trap '$SUP down >/dev/null 2>&1 || true; cleanup' EXIT
-log="$TMP/run/supervisord.log"
+need_own_roudi
+make_sequence 30
+{ echo 'name: "supervisor-test"'; capture_service; } > "$TMP/pipeline.pbtxt"
+started_ns=$(date +%s%N)
+sup_up "$TMP/pipeline.pbtxt"
+log="$RUN/supervisord.log"
 grep -n "spawned: 'roudi'" "$log" >/dev/null || fail "RouDi was not started"
 [ "$(grep -n "spawned:" "$log" | head -1 | grep -c roudi)" = 1 ] || fail "RouDi was not started first"
 pass "RouDi started first"
@@ -37,26 +26,37 @@ pass "tap list shows $NS/frames with its writer"
 
 timeout 60 "$BIN/df_tap" echo "$NS/frames" -n 1 2>"$TMP/echo.err" > "$TMP/echo.txt" || fail "tap echo: $(tail -5 "$TMP/echo.err")"
 grep -q "^width: 640" "$TMP/echo.txt" && grep -q "^  seq: " "$TMP/echo.txt" || fail "tap echo: $(head -20 "$TMP/echo.txt")"
-pass "tap echo prints a frame header"
+# The run epoch capture set: a wall-clock time in ns after the pipeline came up.
+epoch_of() { sed -n 's/^  epoch: \([0-9]*\)$/\1/p' "$1" | head -1; }
+epoch=$(epoch_of "$TMP/echo.txt")
+[ -n "$epoch" ] || fail "tap echo prints no epoch: $(head -10 "$TMP/echo.txt")"
+/usr/bin/python3 -c "import sys; sys.exit(not ($started_ns <= int(sys.argv[1]) <= $(date +%s%N)))" "$epoch" \
+  || fail "epoch $epoch is not capture's start (pipeline up at $started_ns ns)"
+pass "tap echo prints a frame header with the run epoch $epoch"
 
-pid=$($SUP status | awk '$1=="capture" {print $4}')
-kill -KILL "$pid"
-for _ in $(seq 100); do
-  new=$($SUP status | awk '$1=="capture" && $2=="RUNNING" {print $4}')
-  [ -n "$new" ] && [ "$new" != "$pid" ] && break
-  sleep 0.1
-done
-[ -n "${new:-}" ] && [ "$new" != "$pid" ] || fail "capture was not restarted after kill -9 ($($SUP status))"
+sup_kill_restarted capture
 grep -q "exited: capture (terminated by SIGKILL; not expected)" "$log" || fail "no crash in supervisord log"
-pass "capture killed (pid $pid) and restarted (pid $new)"
+pass "capture killed (pid $killed_pid) and restarted (pid $new_pid)"
 after=$(timeout 60 "$BIN/df_tap" hz "$NS/frames" --wait 15 --duration 2 2>"$TMP/hz2.err") \
   || fail "tap hz after the restart exited with $?: $(tail -5 "$TMP/hz2.err")"
 [[ "$after" == *"average rate"* ]] || fail "no frames after restart: $after"
 pass "frames flow again after the restart"
+# The restarted capture is a new run: tap echo shows a later epoch than before the kill.
+timeout 60 "$BIN/df_tap" echo "$NS/frames" -n 1 2>"$TMP/echo2.err" > "$TMP/echo2.txt" || fail "tap echo: $(tail -5 "$TMP/echo2.err")"
+epoch2=$(epoch_of "$TMP/echo2.txt")
+[ -n "$epoch2" ] && /usr/bin/python3 -c "import sys; sys.exit(not int(sys.argv[2]) > int(sys.argv[1]))" "$epoch" "$epoch2" \
+  || fail "epoch after the restart '$epoch2' is not later than $epoch: $(head -10 "$TMP/echo2.txt")"
+pass "tap echo shows the restarted capture's new epoch $epoch2"
 
-$SUP down
-trap cleanup EXIT
+st=$($SUP status)
+grep -q "^health .*RUNNING" <<<"$st" && grep -q "^watch .*RUNNING" <<<"$st" \
+  || fail "no health probe or watcher running: $st"
+pass "health probe and watcher run"
+
+sup_down
 last=$(grep "stopped:" "$log" | tail -1)
 [[ "$last" == *"stopped: roudi"* ]] || fail "RouDi was not stopped last: $(grep stopped: "$log")"
+first=$(grep "stopped:" "$log" | head -1)
+[[ "$first" == *"stopped: watch"* ]] || fail "the watcher was not stopped first: $(grep stopped: "$log")"
 roudi_running && fail "RouDi still running after down"
-pass "down stopped capture, then RouDi last"
+pass "down stopped the watcher, capture, then RouDi last"

@@ -316,6 +316,24 @@ FrameRead OpenNiSource::Impl::fill(const VideoFrameRef& color_frame,
                          mode_text(color_frame.getVideoMode()) + ", depth " +
                          mode_text(depth_frame.getVideoMode()));
     }
+    // Sizes checked before any view: the mode asked for (and the intrinsics made for it), and
+    // buffers that hold what their size and stride say.
+    if (w != config.width || h != config.height) {
+        return bad_frame("OpenNI2 frame is " + std::to_string(w) + "x" + std::to_string(h) +
+                         ", expected " + std::to_string(config.width) + "x" +
+                         std::to_string(config.height) + " (the mode opened, its intrinsics)");
+    }
+    const auto holds = [&](const VideoFrameRef& f, int bytes_per_pixel) {
+        const int64_t stride = f.getStrideInBytes();
+        return stride >= int64_t{w} * bytes_per_pixel &&
+               static_cast<int64_t>(f.getDataSize()) >= stride * h && f.getData() != nullptr;
+    };
+    if (!holds(color_frame, 3) || !holds(depth_frame, 2)) {
+        return bad_frame("OpenNI2 frame buffers are smaller than " + std::to_string(w) + "x" +
+                         std::to_string(h) + " with their stride (colour " +
+                         std::to_string(color_frame.getDataSize()) + " bytes, depth " +
+                         std::to_string(depth_frame.getDataSize()) + " bytes)");
+    }
     if (first_frame_index < 0) first_frame_index = depth_frame.getFrameIndex();
     RgbdImage& image = read.image;
     // OpenNI owns the buffers only while the frame refs live: copy.
@@ -397,9 +415,15 @@ OpenNiSource::OpenNiSource(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) 
 OpenNiSource::~OpenNiSource() = default;
 
 Result<std::unique_ptr<OpenNiSource>> OpenNiSource::open(const OpenNiConfig& config) {
-    if (config.width <= 0 || config.height <= 0 || config.fps <= 0 || config.timeout_ms <= 0) {
+    if (config.width <= 0 || config.height <= 0 || config.width > kMaxWidth ||
+        config.height > kMaxHeight || config.fps <= 0 || config.timeout_ms <= 0) {
         return error(StatusCode::kInvalidArgument,
-                     "OpenNiConfig: width, height, fps and timeout_ms must be positive");
+                     "OpenNiConfig: width, height, fps and timeout_ms must be positive and the "
+                     "size at most " +
+                         std::to_string(kMaxWidth) + "x" + std::to_string(kMaxHeight) + "; found " +
+                         std::to_string(config.width) + "x" + std::to_string(config.height) + "@" +
+                         std::to_string(config.fps) + ", timeout " +
+                         std::to_string(config.timeout_ms) + " ms");
     }
     auto impl = std::make_unique<Impl>();
     impl->config = config;

@@ -6,11 +6,14 @@
 #include <cstdlib>
 #include <fstream>
 
+#include "io/tum/stamp.hpp"
 #include "io/tum/tum_folder.hpp"
 
 namespace df::io {
 
 namespace {
+
+constexpr double kMaxStampS = 9223372036.0;  ///< int64 nanoseconds (year 2262)
 
 bool parse_finite(const std::string& field, double* value) {
     if (field.empty()) return false;
@@ -21,16 +24,16 @@ bool parse_finite(const std::string& field, double* value) {
 }
 
 /// Parses one data line; on failure returns what was wrong.
-std::string parse_pose(const TumTextLine& line, StampedPose* pose) {
+std::string parse_pose(const TumTextLine& line, StampReader* stamps, StampedPose* pose) {
     static const char* const kNames[] = {"timestamp", "tx", "ty", "tz", "qx", "qy", "qz", "qw"};
     if (line.fields.size() < 8) {
         return "expected 'timestamp tx ty tz qx qy qz qw', found " +
                std::to_string(line.fields.size()) + " fields";
     }
-    if (!parse_tum_stamp(line.fields[0], &pose->stamp_s)) {
-        return "expected a time stamp in seconds (a non-negative number), found '" +
-               line.fields[0] + "'";
-    }
+    auto stamp = stamps->read(line.fields[0], line.line);
+    if (!stamp) return stamp.status().message();
+    // Exact nanoseconds to the nearest double: 0.24 us resolution at 1.3e9 s.
+    pose->stamp_s = static_cast<double>(*stamp) / 1e9;
     double v[8] = {};
     for (int i = 1; i < 8; ++i) {
         if (!parse_finite(line.fields[i], &v[i])) {
@@ -51,9 +54,10 @@ Result<TrajectoryParse> read_tum_trajectory(const std::string& file) {
     auto lines = read_tum_text_lines(file);
     if (!lines) return lines.status();
     TrajectoryParse parse;
+    StampReader stamps;
     for (const TumTextLine& line : *lines) {
         StampedPose pose;
-        const std::string what = parse_pose(line, &pose);
+        const std::string what = parse_pose(line, &stamps, &pose);
         if (what.empty()) {
             parse.poses.push_back(pose);
         } else {
@@ -71,10 +75,11 @@ Status write_tum_trajectory(const std::string& file, const std::vector<StampedPo
         const Eigen::Quaterniond q = p.q.normalized();
         const bool finite = std::isfinite(p.stamp_s) && p.t.allFinite() && q.coeffs().allFinite() &&
                             p.q.norm() > 1e-6;
-        if (!finite || p.stamp_s < 0) {
+        if (!finite || p.stamp_s < 0 || p.stamp_s > kMaxStampS) {
             return error(StatusCode::kInvalidArgument,
                          "cannot write " + file + ": pose " + std::to_string(i) +
-                             " has a negative stamp, a non-finite value or a zero quaternion");
+                             " has a stamp outside [0, 9223372036] s, a non-finite value or a "
+                             "zero quaternion");
         }
         char line[4096];  // room for any finite double in %f
         std::snprintf(line, sizeof line, "%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", p.stamp_s,

@@ -24,7 +24,9 @@ struct TrajectoryParse {
 };
 
 /// Reads a TUM trajectory. Malformed lines (fewer than 8 numbers, a non-numeric or non-finite
-/// value, a negative stamp, a zero quaternion) are skipped and listed in `errors`; fields after
+/// value, a stamp that io/tum/stamp.hpp's rules refuse, a zero quaternion) are skipped and
+/// listed in `errors`; stamps are read exactly as nanoseconds, then stored as the nearest double
+/// in seconds; fields after
 /// the eighth are ignored, as TUM's tools do. Fails only if the file cannot be read.
 Result<TrajectoryParse> read_tum_trajectory(const std::string& file);
 

@@ -2,59 +2,26 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <numeric>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <utility>
 
+#include "io/tum/image_header.hpp"
+#include "io/tum/image_read.hpp"
 #include "io/tum/image_text.hpp"
 
 namespace df::io {
 namespace fs = std::filesystem;
 
-namespace detail {
-
-const char* depth_name(int cv_depth) {
-    switch (cv_depth) {
-        case CV_8U:
-            return "8-bit";
-        case CV_8S:
-            return "8-bit signed";
-        case CV_16U:
-            return "16-bit";
-        case CV_16S:
-            return "16-bit signed";
-        case CV_32S:
-            return "32-bit integer";
-        case CV_32F:
-            return "32-bit float";
-        case CV_64F:
-            return "64-bit float";
-        default:
-            return "unknown";
-    }
-}
-
-/// e.g. "8-bit 1-channel".
-std::string type_name(const cv::Mat& m) {
-    return std::string(depth_name(m.depth())) + " " + std::to_string(m.channels()) + "-channel";
-}
-
-std::string size_name(const cv::Mat& m) {
-    return std::to_string(m.cols) + "x" + std::to_string(m.rows);
-}
-
-}  // namespace detail
-
+using detail::load_depth;
+using detail::load_rgb;
 using detail::size_name;
-using detail::type_name;
+using detail::SizeRule;
 
 namespace {
 
@@ -76,91 +43,23 @@ std::string malformed_lines(size_t count) {
 }
 
 /// Parses fields[first], fields[first + 1] as "timestamp path"; on failure says what was wrong.
-bool parse_stamped_path(const TumTextLine& line, size_t first, StampedPath* out,
-                        std::string* what) {
-    if (!parse_tum_stamp(line.fields[first], &out->stamp_s)) {
-        *what = "expected a time stamp in seconds (a non-negative number), found " +
-                quote(line.fields[first]);
+bool parse_stamped_path(const TumTextLine& line, size_t first, StampReader* stamps,
+                        StampedPath* out, std::string* what) {
+    auto stamp = stamps->read(line.fields[first], line.line);
+    if (!stamp) {
+        *what = stamp.status().message();
         return false;
     }
+    out->stamp_ns = *stamp;
     out->path = line.fields[first + 1];
     out->line = line.line;
     return true;
 }
 
-/// Reads an image, turning both a missing file and an undecodable one into a message.
-Result<cv::Mat> read_image(const std::string& path, int flags) {
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec)) {
-        return error(StatusCode::kNotFound,
-                     fs::exists(path, ec) ? "is not a file" : "file does not exist");
-    }
-    cv::Mat image;
-    try {
-        image = cv::imread(path, flags);
-    } catch (const cv::Exception& e) {
-        return error(StatusCode::kIoError, std::string("cannot decode image: ") + e.what());
-    }
-    if (image.empty()) {
-        return error(StatusCode::kIoError,
-                     "cannot decode image (corrupt, truncated or not an image file)");
-    }
-    return image;
-}
-
-/// Converts what imread returned to CV_8UC3 in R,G,B order, or says why it cannot.
-Result<cv::Mat> to_rgb(const cv::Mat& raw) {
-    if (raw.depth() != CV_8U) {
-        return error(StatusCode::kInvalidArgument,
-                     "expected an 8-bit colour image, found " + type_name(raw));
-    }
-    int code = -1;
-    switch (raw.channels()) {
-        case 1:
-            code = cv::COLOR_GRAY2RGB;
-            break;
-        case 3:
-            code = cv::COLOR_BGR2RGB;
-            break;
-        case 4:
-            code = cv::COLOR_BGRA2RGB;
-            break;
-        default:
-            return error(StatusCode::kInvalidArgument,
-                         "expected an 8-bit colour image, found " + type_name(raw));
-    }
-    cv::Mat rgb;
-    cv::cvtColor(raw, rgb, code);
-    return rgb;
-}
-
-Status check_size(const cv::Mat& image, int max_width, int max_height) {
-    if (image.cols <= max_width && image.rows <= max_height) return Status::ok();
-    return error(StatusCode::kInvalidArgument,
-                 "image is " + size_name(image) + ", larger than the " + std::to_string(max_width) +
-                     "x" + std::to_string(max_height) + " maximum");
-}
-
-/// Reads a colour image as CV_8UC3 R,G,B no larger than the maximum, or says what was wrong.
-Result<cv::Mat> load_rgb(const std::string& path, int max_width, int max_height) {
-    auto raw = read_image(path, cv::IMREAD_UNCHANGED);
-    if (!raw) return raw.status();
-    auto rgb = to_rgb(*raw);
-    if (!rgb) return rgb.status();
-    DF_RETURN_IF_ERROR(check_size(*rgb, max_width, max_height));
-    return rgb;
-}
-
-/// Reads a depth image as CV_16UC1 no larger than the maximum, or says what was wrong.
-Result<cv::Mat> load_depth(const std::string& path, int max_width, int max_height) {
-    auto depth = read_image(path, cv::IMREAD_UNCHANGED);
-    if (!depth) return depth.status();
-    if (depth->type() != CV_16UC1) {
-        return error(StatusCode::kInvalidArgument,
-                     "expected a 16-bit 1-channel depth image, found " + type_name(*depth));
-    }
-    DF_RETURN_IF_ERROR(check_size(*depth, max_width, max_height));
-    return depth;
+std::string number(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
 }
 
 }  // namespace
@@ -178,15 +77,27 @@ Result<Intrinsics> intrinsics_preset(const std::string& name) {
 }
 
 bool parse_tum_stamp(const std::string& field, double* stamp_s) {
-    if (field.empty()) return false;
-    const char* begin = field.c_str();
-    char* end = nullptr;
-    errno = 0;
-    const double value = std::strtod(begin, &end);
-    if (end != begin + field.size() || errno == ERANGE) return false;
-    if (!std::isfinite(value) || value < 0) return false;
-    *stamp_s = value;
+    auto stamp = parse_stamp(field);
+    if (!stamp) return false;
+    *stamp_s = static_cast<double>(stamp->ns) / 1e9;
     return true;
+}
+
+Status check_intrinsics(const Intrinsics& k, int width, int height, const std::string& where) {
+    auto outside = [&](const char* name, double value, double low, double high) {
+        return error(StatusCode::kInvalidArgument,
+                     where + ": " + name + " is " + number(value) + ", allowed [" + number(low) +
+                         ", " + number(high) + "] for " + std::to_string(width) + "x" +
+                         std::to_string(height) + " images");
+    };
+    const double w = width, h = height;
+    if (!(std::isfinite(k.fx) && k.fx >= 0.05 * w && k.fx <= 20 * w))
+        return outside("fx", k.fx, 0.05 * w, 20 * w);
+    if (!(std::isfinite(k.fy) && k.fy >= 0.05 * w && k.fy <= 20 * w))
+        return outside("fy", k.fy, 0.05 * w, 20 * w);
+    if (!(std::isfinite(k.cx) && k.cx >= 0 && k.cx <= w)) return outside("cx", k.cx, 0, w);
+    if (!(std::isfinite(k.cy) && k.cy >= 0 && k.cy <= h)) return outside("cy", k.cy, 0, h);
+    return Status::ok();
 }
 
 Result<std::vector<TumTextLine>> read_tum_text_lines(const std::string& file) {
@@ -228,13 +139,14 @@ Result<ListParse> parse_stamp_list(const std::string& file) {
     auto lines = read_tum_text_lines(file);
     if (!lines) return lines.status();
     ListParse parse;
+    StampReader stamps;
     for (const TumTextLine& line : *lines) {
         // TUM's tools read the first two fields and ignore any after them; so do we.
         std::string what;
         StampedPath entry;
         if (line.fields.size() < 2) {
             what = "expected 'timestamp path', found " + quote(line.text);
-        } else if (parse_stamped_path(line, 0, &entry, &what)) {
+        } else if (parse_stamped_path(line, 0, &stamps, &entry, &what)) {
             parse.entries.push_back(std::move(entry));
             continue;
         }
@@ -247,15 +159,24 @@ Result<AssociationsParse> parse_associations(const std::string& file) {
     auto lines = read_tum_text_lines(file);
     if (!lines) return lines.status();
     AssociationsParse parse;
+    StampReader stamps;  // one unit for the file, rgb and depth columns alike
     for (const TumTextLine& line : *lines) {
         std::string what;
         AssociatedPair pair;
         if (line.fields.size() < 4) {
             what = "expected 't_rgb rgb_path t_depth depth_path', found " + quote(line.text);
-        } else if (parse_stamped_path(line, 0, &pair.rgb, &what) &&
-                   parse_stamped_path(line, 2, &pair.depth, &what)) {
-            parse.pairs.push_back(std::move(pair));
-            continue;
+        } else if (parse_stamped_path(line, 0, &stamps, &pair.rgb, &what) &&
+                   parse_stamped_path(line, 2, &stamps, &pair.depth, &what)) {
+            // Frames are played in file order: a stamp not after the previous frame's would be
+            // a second pose for one instant or a step back in time.
+            const AssociatedPair* last = parse.pairs.empty() ? nullptr : &parse.pairs.back();
+            if (last == nullptr || pair.rgb.stamp_ns > last->rgb.stamp_ns) {
+                parse.pairs.push_back(std::move(pair));
+                continue;
+            }
+            what = "rgb time stamp " + line.fields[0] + " is not after line " +
+                   std::to_string(last->rgb.line) + "'s (" + stamp_text(last->rgb.stamp_ns, 9) +
+                   "); frames must be listed in time order, each once";
         }
         parse.errors.push_back(at(file, line.line) + ": " + what);
     }
@@ -264,38 +185,42 @@ Result<AssociationsParse> parse_associations(const std::string& file) {
 
 std::vector<AssociatedPair> associate(const std::vector<StampedPath>& rgb,
                                       const std::vector<StampedPath>& depth,
-                                      double max_difference_s) {
+                                      int64_t max_difference_ns) {
     std::vector<AssociatedPair> pairs;
-    if (!(max_difference_s > 0) || rgb.empty() || depth.empty()) return pairs;
+    if (max_difference_ns <= 0 || rgb.empty() || depth.empty()) return pairs;
 
     // Candidates are found through the depth stamps in sorted order, so the cost stays
-    // O((n + m) log m + candidates) instead of associate.py's all-pairs loop.
+    // O((n + m) log m + candidates) instead of associate.py's all-pairs loop. Stamps are in
+    // [0, INT64_MAX] so differences of two never overflow; the window ends are clamped.
     std::vector<size_t> depth_order(depth.size());
     std::iota(depth_order.begin(), depth_order.end(), size_t{0});
     std::stable_sort(depth_order.begin(), depth_order.end(),
-                     [&](size_t a, size_t b) { return depth[a].stamp_s < depth[b].stamp_s; });
+                     [&](size_t a, size_t b) { return depth[a].stamp_ns < depth[b].stamp_ns; });
 
     struct Candidate {
-        double difference;
+        int64_t difference;
         size_t rgb, depth;
     };
     std::vector<Candidate> candidates;
     for (size_t r = 0; r < rgb.size(); ++r) {
-        const double a = rgb[r].stamp_s;
-        auto it = std::lower_bound(depth_order.begin(), depth_order.end(), a - max_difference_s,
-                                   [&](size_t d, double v) { return depth[d].stamp_s < v; });
-        for (; it != depth_order.end() && depth[*it].stamp_s < a + max_difference_s; ++it) {
-            const double difference = std::abs(a - depth[*it].stamp_s);
-            if (difference < max_difference_s) candidates.push_back({difference, r, *it});
+        const int64_t a = rgb[r].stamp_ns;
+        const int64_t low = a > max_difference_ns ? a - max_difference_ns : 0;
+        auto it = std::lower_bound(depth_order.begin(), depth_order.end(), low,
+                                   [&](size_t d, int64_t v) { return depth[d].stamp_ns < v; });
+        for (; it != depth_order.end(); ++it) {
+            const int64_t b = depth[*it].stamp_ns;
+            const int64_t difference = b >= a ? b - a : a - b;
+            if (b > a && difference >= max_difference_ns) break;
+            if (difference < max_difference_ns) candidates.push_back({difference, r, *it});
         }
     }
     // associate.py sorts (difference, t_rgb, t_depth) tuples; list positions break exact ties.
     std::sort(candidates.begin(), candidates.end(), [&](const Candidate& x, const Candidate& y) {
         if (x.difference != y.difference) return x.difference < y.difference;
-        if (rgb[x.rgb].stamp_s != rgb[y.rgb].stamp_s)
-            return rgb[x.rgb].stamp_s < rgb[y.rgb].stamp_s;
-        if (depth[x.depth].stamp_s != depth[y.depth].stamp_s) {
-            return depth[x.depth].stamp_s < depth[y.depth].stamp_s;
+        if (rgb[x.rgb].stamp_ns != rgb[y.rgb].stamp_ns)
+            return rgb[x.rgb].stamp_ns < rgb[y.rgb].stamp_ns;
+        if (depth[x.depth].stamp_ns != depth[y.depth].stamp_ns) {
+            return depth[x.depth].stamp_ns < depth[y.depth].stamp_ns;
         }
         return std::make_pair(x.rgb, x.depth) < std::make_pair(y.rgb, y.depth);
     });
@@ -308,8 +233,8 @@ std::vector<AssociatedPair> associate(const std::vector<StampedPath>& rgb,
         chosen.emplace_back(c.rgb, c.depth);
     }
     std::sort(chosen.begin(), chosen.end(), [&](const auto& x, const auto& y) {
-        if (rgb[x.first].stamp_s != rgb[y.first].stamp_s) {
-            return rgb[x.first].stamp_s < rgb[y.first].stamp_s;
+        if (rgb[x.first].stamp_ns != rgb[y.first].stamp_ns) {
+            return rgb[x.first].stamp_ns < rgb[y.first].stamp_ns;
         }
         return x < y;
     });
@@ -327,11 +252,18 @@ Result<std::unique_ptr<TumFolderSource>> TumFolderSource::open(const TumFolderCo
         return error(StatusCode::kInvalidArgument,
                      std::string("no TUM folder given; ") + kExpectedLayout);
     }
-    if (!(config.max_difference_s > 0) || !(config.depth_units_per_m > 0) ||
-        config.max_width <= 0 || config.max_height <= 0) {
+    auto window = window_ns(config.max_difference_s, "max_difference_s");
+    if (!window) return window.status();
+    if (!(std::isfinite(config.depth_units_per_m) && config.depth_units_per_m > 0) ||
+        config.max_width <= 0 || config.max_height <= 0 || config.width < 0 || config.height < 0 ||
+        config.width > config.max_width || config.height > config.max_height) {
         return error(StatusCode::kInvalidArgument,
-                     "TUM folder config needs max_difference_s > 0, depth_units_per_m > 0 and a "
-                     "positive max size");
+                     "TUM folder config needs depth_units_per_m > 0 (finite), a positive max "
+                     "size and an image size (width, height) within it; found depth_units_per_m " +
+                         number(config.depth_units_per_m) + ", size " +
+                         std::to_string(config.width) + "x" + std::to_string(config.height) +
+                         ", max " + std::to_string(config.max_width) + "x" +
+                         std::to_string(config.max_height));
     }
     const fs::path folder(config.folder);
     std::error_code ec;
@@ -359,8 +291,21 @@ Result<std::unique_ptr<TumFolderSource>> TumFolderSource::open(const TumFolderCo
     if (use_associations) {
         auto parsed = parse_associations(associations_file);
         if (!parsed) return parsed.status();
-        pairs = std::move(parsed->pairs);
         errors = std::move(parsed->errors);
+        // A pair is one instant: stamps further apart than the association window are refused
+        // as associate.py would never have paired them.
+        for (AssociatedPair& pair : parsed->pairs) {
+            const int64_t apart = std::llabs(pair.rgb.stamp_ns - pair.depth.stamp_ns);
+            if (apart <= *window) {
+                pairs.push_back(std::move(pair));
+                continue;
+            }
+            std::ostringstream s;
+            s << at(associations_file, pair.rgb.line) << ": rgb and depth stamps are "
+              << static_cast<double>(apart) * 1e-9 << " s apart, more than max_difference_s ("
+              << config.max_difference_s << " s)";
+            errors.push_back(s.str());
+        }
         found = "associations.txt has no valid line";
     } else {
         for (const std::string& file : {rgb_file, depth_file}) {
@@ -374,13 +319,13 @@ Result<std::unique_ptr<TumFolderSource>> TumFolderSource::open(const TumFolderCo
         if (!rgb) return rgb.status();
         auto depth = parse_stamp_list(depth_file);
         if (!depth) return depth.status();
-        pairs = associate(rgb->entries, depth->entries, config.max_difference_s);
+        pairs = associate(rgb->entries, depth->entries, *window);
         errors = std::move(rgb->errors);
         errors.insert(errors.end(), depth->errors.begin(), depth->errors.end());
         std::ostringstream s;
         s << "rgb.txt has " << rgb->entries.size() << " valid lines and depth.txt "
-          << depth->entries.size() << ", but no rgb and depth stamps are within "
-          << config.max_difference_s << " s of each other";
+          << depth->entries.size() << ", but no rgb and depth stamps are less than "
+          << config.max_difference_s << " s apart";
         found = s.str();
     }
     if (pairs.empty()) {
@@ -391,8 +336,28 @@ Result<std::unique_ptr<TumFolderSource>> TumFolderSource::open(const TumFolderCo
         return error(StatusCode::kInvalidArgument, message);
     }
 
+    // The image size: given, or the first rgb image's (read from its header); the intrinsics
+    // must fit it.
+    TumFolderConfig checked = config;
+    std::string size_from = "the configured image size";
+    if (checked.width == 0 || checked.height == 0) {
+        const std::string first = (folder / pairs.front().rgb.path).string();
+        auto header = read_image_header(first);
+        if (header && header->width <= config.max_width && header->height <= config.max_height) {
+            checked.width = header->width;
+            checked.height = header->height;
+            size_from = "the first rgb image " + first;
+        }
+    }
+    const int check_w = checked.width > 0 ? checked.width : config.max_width;
+    const int check_h = checked.height > 0 ? checked.height : config.max_height;
+    DF_RETURN_IF_ERROR(check_intrinsics(config.intrinsics, check_w, check_h,
+                                        "intrinsics for TUM folder " + config.folder + " (size " +
+                                            std::to_string(check_w) + "x" +
+                                            std::to_string(check_h) + " from " + size_from + ")"));
+
     std::unique_ptr<TumFolderSource> source(
-        new TumFolderSource(config, std::move(pairs), std::move(errors)));
+        new TumFolderSource(checked, std::move(pairs), std::move(errors)));
     source->from_associations_file_ = use_associations;
     return source;
 }
@@ -433,9 +398,10 @@ FrameRead TumFolderSource::next() {
         read.error = "frame " + std::to_string(index) + ": " + where + ": " + what;
         return read;
     };
-    auto rgb = load_rgb(rgb_path, config_.max_width, config_.max_height);
+    const SizeRule size{config_.max_width, config_.max_height, config_.width, config_.height};
+    auto rgb = load_rgb(rgb_path, size);
     if (!rgb) return bad(rgb_where, rgb.status().message());
-    auto depth = load_depth(depth_path, config_.max_width, config_.max_height);
+    auto depth = load_depth(depth_path, size);
     if (!depth) return bad(depth_where, depth.status().message());
     if (depth->size() != rgb->size()) {
         return bad(depth_where, "image is " + size_name(*depth) + " but rgb image " + rgb_path +
@@ -445,13 +411,17 @@ FrameRead TumFolderSource::next() {
         depth->setTo(0, *depth >= config_.depth_invalid_value);
     }
 
+    if (config_.width == 0 || config_.height == 0) {  // the first frame fixes the size
+        config_.width = rgb->cols;
+        config_.height = rgb->rows;
+    }
     read.kind = FrameRead::Kind::kFrame;
     RgbdImage& image = read.image;
     image.rgb = std::move(*rgb);
     image.depth = std::move(*depth);
     image.depth_units_per_m = config_.depth_units_per_m;
     image.intrinsics = config_.intrinsics;
-    image.sensor_ns = std::llround(pair.rgb.stamp_s * 1e9);
+    image.sensor_ns = pair.rgb.stamp_ns;
     image.index = index;
     image.rgb_path = rgb_path;
     image.depth_path = depth_path;

@@ -13,6 +13,7 @@
 
 #include "core/status.hpp"
 #include "io/rgbd_image.hpp"
+#include "io/tum/stamp.hpp"
 
 namespace df::io {
 
@@ -25,16 +26,19 @@ struct TumFolderConfig {
     Intrinsics intrinsics;              ///< pixels
     double depth_units_per_m = 5000.0;  ///< TUM: 5000; 7-Scenes/OpenNI: 1000
     int depth_invalid_value = 0;        ///< raw values >= this (if > 0) become 0 (7-Scenes: 65535)
-    double max_difference_s = 0.02;     ///< association window
+    double max_difference_s = 0.02;     ///< association window, (0, 1e6] s
     bool use_associations_file = true;  ///< use associations.txt when the folder has one
     int max_width = kMaxWidth, max_height = kMaxHeight;
+    /// The size every image must have (the intrinsics' image size), checked from the file's
+    /// header before it is decoded; 0 = the size of the first pair's rgb image.
+    int width = 0, height = 0;
 };
 
 /// One line of a "timestamp path" list.
 struct StampedPath {
-    double stamp_s = 0;
-    std::string path;  ///< relative to the folder, as written
-    int line = 0;      ///< 1-based line in the list file, for messages
+    int64_t stamp_ns = 0;  ///< exact (stamp.hpp), from the list's text
+    std::string path;      ///< relative to the folder, as written
+    int line = 0;          ///< 1-based line in the list file, for messages
 };
 
 struct ListParse {
@@ -42,18 +46,19 @@ struct ListParse {
     std::vector<std::string> errors;  ///< "<file>:<line>: <what was wrong>" for each malformed line
 };
 
-/// Parses a "timestamp path" list (rgb.txt, depth.txt). Fails only if the file cannot be read.
+/// Parses a "timestamp path" list (rgb.txt, depth.txt); stamps by stamp.hpp's rules, each bad
+/// one listed in `errors` with file and line. Fails only if the file cannot be read.
 Result<ListParse> parse_stamp_list(const std::string& file);
 
 struct AssociatedPair {
     StampedPath rgb, depth;
 };
 
-/// TUM associate.py: greedy one-to-one by |t_rgb - t_depth| < max_difference_s, sorted by rgb
-/// stamp.
+/// TUM associate.py: greedy one-to-one by |t_rgb - t_depth| < max_difference_ns (integer
+/// nanoseconds, so identical stamps always pair), sorted by rgb stamp.
 std::vector<AssociatedPair> associate(const std::vector<StampedPath>& rgb,
                                       const std::vector<StampedPath>& depth,
-                                      double max_difference_s);
+                                      int64_t max_difference_ns);
 
 struct AssociationsParse {
     std::vector<AssociatedPair> pairs;
@@ -78,6 +83,8 @@ class TumFolderSource : public FrameSource {
     const std::vector<AssociatedPair>& pairs() const { return pairs_; }
     /// Rewinds to the first frame (for looping playback).
     void rewind() { cursor_ = 0; }
+    /// The next frame read is pairs()[index] (the end for index >= size()).
+    void seek(size_t index) { cursor_ = index < pairs_.size() ? index : pairs_.size(); }
 
   private:
     TumFolderSource(TumFolderConfig config, std::vector<AssociatedPair> pairs,
@@ -101,14 +108,21 @@ struct TumTextLine {
 /// cannot be read (or is a folder).
 Result<std::vector<TumTextLine>> read_tum_text_lines(const std::string& file);
 
-/// Parses a TUM time stamp field: a finite, non-negative number of seconds. False otherwise.
+/// Parses a TUM time stamp field by stamp.hpp's rules into seconds (the double nearest the exact
+/// value). False for a stamp those rules refuse. Prefer parse_stamp (exact nanoseconds).
 bool parse_tum_stamp(const std::string& field, double* stamp_s);
+
+/// Checks pinhole intrinsics against the image size they are for: fx, fy finite and in
+/// [0.05, 20] x width (fields of view between about 3 and 170 degrees), cx in [0, width],
+/// cy in [0, height]. kInvalidArgument naming `where`, the field, its value and the range.
+Status check_intrinsics(const Intrinsics& intrinsics, int width, int height,
+                        const std::string& where);
 
 /// Writes a TUM folder (rgb/, depth/, rgb.txt, depth.txt, associations.txt) from frames.
 /// Used by tests and by the built-in default data. Images are PNG.
 /// Each frame needs rgb CV_8UC3 (R,G,B order) and depth CV_16UC1 of the same size and a distinct
-/// sensor_ns >= 0; files are named by that stamp in seconds ("%.6f.png", microseconds) and rgb and
-/// depth share the stamp. Creates the folders as needed and overwrites existing files.
+/// sensor_ns >= 0; files are named by that stamp in seconds (stamp_text: 6 decimals, microseconds)
+/// and rgb and depth share the stamp. Creates the folders as needed and overwrites existing files.
 Status write_tum_folder(const std::string& folder, const std::vector<RgbdImage>& frames);
 
 }  // namespace df::io

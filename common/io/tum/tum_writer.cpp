@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "io/tum/image_text.hpp"
+#include "io/tum/stamp.hpp"
 #include "io/tum/tum_folder.hpp"
 
 namespace df::io {
@@ -17,15 +18,6 @@ namespace {
 
 using detail::size_name;
 using detail::type_name;
-
-/// Formats a non-negative stamp in ns as seconds with 6 decimals, exactly (no double rounding).
-std::string stamp_text(int64_t stamp_ns) {
-    const int64_t us = (stamp_ns + 500) / 1000;
-    char buffer[48];
-    std::snprintf(buffer, sizeof buffer, "%lld.%06lld", static_cast<long long>(us / 1000000),
-                  static_cast<long long>(us % 1000000));
-    return buffer;
-}
 
 Status check_frame_for_writing(const RgbdImage& frame, size_t i) {
     const std::string where = "frame " + std::to_string(i) + ": ";

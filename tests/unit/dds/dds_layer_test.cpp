@@ -229,10 +229,11 @@ TEST(MsgConvert, FrameViewsAliasTheSample) {
     EXPECT_EQ(f->rgb[2], 3);
     EXPECT_EQ(f->depth[23], 1234);
     EXPECT_FLOAT_EQ(f->intrinsics.fy, 101);
-    const io::RgbdImage back = to_image(*f);
-    EXPECT_EQ(cv::norm(back.rgb, img.rgb, cv::NORM_INF), 0);
-    EXPECT_EQ(cv::norm(back.depth, img.depth, cv::NORM_INF), 0);
-    EXPECT_EQ(back.index, 9U);
+    const auto back = to_image(*f);
+    ASSERT_TRUE(back) << back.status().to_string();
+    EXPECT_EQ(cv::norm(back->rgb, img.rgb, cv::NORM_INF), 0);
+    EXPECT_EQ(cv::norm(back->depth, img.depth, cv::NORM_INF), 0);
+    EXPECT_EQ(back->index, 9U);
 }
 
 }  // namespace

@@ -126,6 +126,50 @@ TEST(DetectBadModelTest, InputSizeMustBeMultipleOf32) {
     EXPECT_NE(d.status().message().find("500x640"), std::string::npos) << d.status().message();
 }
 
+TEST(DetectBadModelTest, NegativeOrHugeWeightShapeIsNamedNotWrapped) {
+    // A shape with -1 used to wrap the byte count ("needs 18446743919119700504 bytes").
+    TempDir dir;
+    DetectorConfig c;
+    c.model_path = dir / "";
+    for (const char* shape : {"[3, -1, 16]", "[100000, 100000, 100000]"}) {
+        std::ofstream(dir / "model.json")
+            << R"({"modelTopology": {"node": []}, "weightsManifest": [{"paths": ["s1.bin"],
+                  "weights": [{"name": "conv/w", "shape": )"
+            << shape << R"(, "dtype": "float32"}]}]})";
+        std::ofstream(dir / "s1.bin") << std::string(40, '\0');
+        auto d = open_detector(c);
+        ASSERT_FALSE(d.is_ok()) << shape;
+        EXPECT_EQ(d.status().code(), StatusCode::kInvalidArgument);
+        EXPECT_NE(d.status().message().find("weight conv/w has shape ["), std::string::npos)
+            << d.status().message();
+        EXPECT_NE(d.status().message().find("each dimension must be >= 0"), std::string::npos)
+            << d.status().message();
+        EXPECT_EQ(d.status().message().find("needs"), std::string::npos) << d.status().message();
+    }
+}
+
+TEST(DetectBadModelTest, InputSizeAndThresholdsOutOfRangeAreRefusedBeforeOpenCv) {
+    DetectorConfig c;
+    c.input_width = 100000 / 32 * 32;  // a multiple of 32, but far beyond what a network takes
+    auto d = open_detector(c);
+    ASSERT_FALSE(d.is_ok());
+    EXPECT_NE(d.status().message().find("from 32 to 2048 px per side"), std::string::npos)
+        << d.status().message();
+    c = DetectorConfig{};
+    c.nms_iou_threshold = 2.f;
+    d = open_detector(c);
+    ASSERT_FALSE(d.is_ok());
+    EXPECT_NE(d.status().message().find("nms_iou_threshold is 2.000000, allowed: >= 0 and <= 1"),
+              std::string::npos)
+        << d.status().message();
+    c = DetectorConfig{};
+    c.score_threshold = std::nanf("");
+    d = open_detector(c);
+    ASSERT_FALSE(d.is_ok());
+    EXPECT_NE(d.status().message().find("score_threshold is nan"), std::string::npos)
+        << d.status().message();
+}
+
 DetectorConfig tiny_config(ModelKind kind, const std::string& model,
                            const std::string& weights = "") {
     DetectorConfig c;

@@ -24,6 +24,7 @@ class BadFrameTest : public ::testing::Test {
         for (int i = 0; i < 3; ++i) frames_.push_back(make_frame(1'000'000'000LL * (i + 1), i));
         ASSERT_TRUE(write_tum_folder(tmp_.str(), frames_));
         config_.folder = tmp_.str();
+        config_.intrinsics = test::kSmallIntrinsics;
     }
 
     std::string rgb1() const { return tmp_ / "rgb/2.000000.png"; }
@@ -100,7 +101,27 @@ TEST_F(BadFrameTest, SixteenBitColour) {
 TEST_F(BadFrameTest, RgbAndDepthSizesDiffer) {
     cv::Mat small(24, 32, CV_16UC1, cv::Scalar(5000));
     ASSERT_TRUE(cv::imwrite(depth1(), small));
-    expect_frame_1_bad({depth1(), "32x24", rgb1(), "64x48"});
+    expect_frame_1_bad({depth1(), "image is 32x24, expected 64x48"});
+}
+
+TEST_F(BadFrameTest, ImageOfAnotherSizeThanTheFirstFrameIsSkipped) {
+    // Both images of frame 1 are 32x24 (consistent with each other) but the sequence is 64x48.
+    const RgbdImage small = make_frame(2'000'000'000, 9, 32, 24);
+    cv::Mat bgr;
+    cv::cvtColor(small.rgb, bgr, cv::COLOR_RGB2BGR);
+    ASSERT_TRUE(cv::imwrite(rgb1(), bgr));
+    ASSERT_TRUE(cv::imwrite(depth1(), small.depth));
+    expect_frame_1_bad({rgb1(), "associations.txt:2", "image is 32x24, expected 64x48"});
+}
+
+TEST_F(BadFrameTest, ImageOfAnotherSizeThanConfiguredIsSkipped) {
+    config_.width = 64;
+    config_.height = 48;
+    const RgbdImage one = make_frame(2'000'000'000, 9, 1, 1);
+    cv::Mat bgr;
+    cv::cvtColor(one.rgb, bgr, cv::COLOR_RGB2BGR);
+    ASSERT_TRUE(cv::imwrite(rgb1(), bgr));
+    expect_frame_1_bad({rgb1(), "image is 1x1, expected 64x48"});
 }
 
 TEST_F(BadFrameTest, ImageLargerThanMaximum) {

@@ -1,6 +1,8 @@
 // Parsing rgb.txt/depth.txt/associations.txt and associating stamps as TUM's associate.py does.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "io/tum/tum_folder.hpp"
 #include "tum_test_util.hpp"
 
@@ -10,9 +12,12 @@ namespace {
 using test::TempFolder;
 using test::write_file;
 
+/// Test data written in seconds, as nanoseconds (the nearest integer).
+int64_t ns(double seconds) { return std::llround(seconds * 1e9); }
+
 std::vector<StampedPath> stamps(std::initializer_list<double> values) {
     std::vector<StampedPath> out;
-    for (double v : values) out.push_back({v, std::to_string(v) + ".png", 0});
+    for (double v : values) out.push_back({ns(v), std::to_string(v) + ".png", 0});
     return out;
 }
 
@@ -30,7 +35,7 @@ TEST(ParseStampList, ReadsEntriesSkippingCommentsAndBlankLines) {
     ASSERT_TRUE(parsed) << parsed.status().to_string();
     EXPECT_TRUE(parsed->errors.empty());
     ASSERT_EQ(parsed->entries.size(), 3u);
-    EXPECT_DOUBLE_EQ(parsed->entries[0].stamp_s, 1305031102.175304);
+    EXPECT_EQ(parsed->entries[0].stamp_ns, 1305031102175304000);  // exact
     EXPECT_EQ(parsed->entries[0].path, "rgb/1305031102.175304.png");
     EXPECT_EQ(parsed->entries[0].line, 4);
     EXPECT_EQ(parsed->entries[1].path, "rgb/b.png");  // tab separated, CRLF ending
@@ -88,7 +93,7 @@ TEST(ParseAssociations, ReadsPairsAndReportsMalformedLines) {
     ASSERT_TRUE(parsed) << parsed.status().to_string();
     ASSERT_EQ(parsed->pairs.size(), 2u);
     EXPECT_EQ(parsed->pairs[0].rgb.path, "rgb/1.png");
-    EXPECT_DOUBLE_EQ(parsed->pairs[0].depth.stamp_s, 1.01);
+    EXPECT_EQ(parsed->pairs[0].depth.stamp_ns, ns(1.01));
     EXPECT_EQ(parsed->pairs[0].depth.path, "depth/1.png");
     EXPECT_EQ(parsed->pairs[1].rgb.line, 4);
     ASSERT_EQ(parsed->errors.size(), 2u);
@@ -100,39 +105,39 @@ TEST(ParseAssociations, ReadsPairsAndReportsMalformedLines) {
 }
 
 TEST(Associate, MatchesWithinWindowAndDropsFartherOnes) {
-    const auto pairs = associate(stamps({1.0, 2.0, 3.0}), stamps({1.015, 2.03, 2.999}), 0.02);
+    const auto pairs = associate(stamps({1.0, 2.0, 3.0}), stamps({1.015, 2.03, 2.999}), ns(0.02));
     ASSERT_EQ(pairs.size(), 2u);
-    EXPECT_DOUBLE_EQ(pairs[0].rgb.stamp_s, 1.0);
-    EXPECT_DOUBLE_EQ(pairs[0].depth.stamp_s, 1.015);
-    EXPECT_DOUBLE_EQ(pairs[1].rgb.stamp_s, 3.0);
-    EXPECT_DOUBLE_EQ(pairs[1].depth.stamp_s, 2.999);
+    EXPECT_EQ(pairs[0].rgb.stamp_ns, ns(1.0));
+    EXPECT_EQ(pairs[0].depth.stamp_ns, ns(1.015));
+    EXPECT_EQ(pairs[1].rgb.stamp_ns, ns(3.0));
+    EXPECT_EQ(pairs[1].depth.stamp_ns, ns(2.999));
 }
 
 TEST(Associate, WindowIsStrict) {
     // Exactly representable stamps: a difference equal to the window is not a match.
-    EXPECT_TRUE(associate(stamps({0.5}), stamps({0.75}), 0.25).empty());
-    EXPECT_EQ(associate(stamps({0.5}), stamps({0.625}), 0.25).size(), 1u);
+    EXPECT_TRUE(associate(stamps({0.5}), stamps({0.75}), ns(0.25)).empty());
+    EXPECT_EQ(associate(stamps({0.5}), stamps({0.625}), ns(0.25)).size(), 1u);
 }
 
 TEST(Associate, GreedyBySmallestDifferenceOneToOne) {
     // Candidates: (1.010, 1.008) 0.002, (1.000, 1.008) 0.008, (1.010, 1.030) 0.020.
     // Greedy takes 0.002 first, which uses up both 1.010 and 1.008, so nothing else is left:
     // associate.py yields one pair here (an optimal assignment would yield two).
-    const auto pairs = associate(stamps({1.000, 1.010}), stamps({1.008, 1.030}), 0.025);
+    const auto pairs = associate(stamps({1.000, 1.010}), stamps({1.008, 1.030}), ns(0.025));
     ASSERT_EQ(pairs.size(), 1u);
-    EXPECT_DOUBLE_EQ(pairs[0].rgb.stamp_s, 1.010);
-    EXPECT_DOUBLE_EQ(pairs[0].depth.stamp_s, 1.008);
+    EXPECT_EQ(pairs[0].rgb.stamp_ns, ns(1.010));
+    EXPECT_EQ(pairs[0].depth.stamp_ns, ns(1.008));
 }
 
 TEST(Associate, EachStampUsedOnceAndResultSortedByRgbStamp) {
     // Three rgb stamps near one depth stamp: only the closest gets it. Input order is shuffled.
     const auto pairs =
-        associate(stamps({5.0, 1.004, 1.0, 0.995}), stamps({4.99, 1.001, 9.0}), 0.02);
+        associate(stamps({5.0, 1.004, 1.0, 0.995}), stamps({4.99, 1.001, 9.0}), ns(0.02));
     ASSERT_EQ(pairs.size(), 2u);
-    EXPECT_DOUBLE_EQ(pairs[0].rgb.stamp_s, 1.0);
-    EXPECT_DOUBLE_EQ(pairs[0].depth.stamp_s, 1.001);
-    EXPECT_DOUBLE_EQ(pairs[1].rgb.stamp_s, 5.0);
-    EXPECT_DOUBLE_EQ(pairs[1].depth.stamp_s, 4.99);
+    EXPECT_EQ(pairs[0].rgb.stamp_ns, ns(1.0));
+    EXPECT_EQ(pairs[0].depth.stamp_ns, ns(1.001));
+    EXPECT_EQ(pairs[1].rgb.stamp_ns, ns(5.0));
+    EXPECT_EQ(pairs[1].depth.stamp_ns, ns(4.99));
     EXPECT_EQ(pairs[1].rgb.path, stamps({5.0})[0].path);
 }
 
@@ -140,10 +145,10 @@ TEST(Associate, TypicalTumRatesPairEveryFrame) {
     // 30 Hz rgb and depth with a 7 ms offset: every rgb frame gets the depth frame next to it.
     std::vector<StampedPath> rgb, depth;
     for (int i = 0; i < 300; ++i) {
-        rgb.push_back({100.0 + i / 30.0, "r", i});
-        depth.push_back({100.007 + i / 30.0, "d", i});
+        rgb.push_back({ns(100.0 + i / 30.0), "r", i});
+        depth.push_back({ns(100.007 + i / 30.0), "d", i});
     }
-    const auto pairs = associate(rgb, depth, 0.02);
+    const auto pairs = associate(rgb, depth, ns(0.02));
     ASSERT_EQ(pairs.size(), 300u);
     for (int i = 0; i < 300; ++i) {
         EXPECT_EQ(pairs[i].rgb.line, i);

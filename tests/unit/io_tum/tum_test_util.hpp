@@ -19,6 +19,15 @@ namespace df::io::test {
 
 using df::test::TempFolder;  // tests/support/temp_folder.hpp
 
+/// fr3's intrinsics scaled to make_frame's default 64x48 images (fr3 itself is for 640x480 and
+/// is refused for them: its principal point lies outside a 64x48 image).
+inline const Intrinsics kSmallIntrinsics{53.54, 53.92, 32.01, 24.76};
+
+/// True when `part` occurs in `text` (error messages that must name a file, line or field).
+inline bool contains(const std::string& text, const std::string& part) {
+    return text.find(part) != std::string::npos;
+}
+
 inline void write_file(const std::string& path, const std::string& text) {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out << text;

@@ -78,6 +78,7 @@ TEST_F(SimFolder, LayoutFollowsTheSequenceFormat) {
     // The project's own TUM reader opens it.
     io::TumFolderConfig config;
     config.folder = root;
+    config.intrinsics = f.k;  // the 320x240 sequence's own (fr3's are refused for its size)
     auto source = io::TumFolderSource::open(config);
     ASSERT_TRUE(source.is_ok()) << source.status().to_string();
     EXPECT_EQ((*source)->size(), 120);

@@ -3,15 +3,15 @@
 #include <gtest/gtest.h>
 #include <google/protobuf/text_format.h>
 
-#include "slam_params.hpp"
 #include "slam_system/parameters.hpp"
+#include "slam_system/slam_params.hpp"
 #include "slam_system/slam_system.hpp"
 
 namespace df::slam {
 namespace {
 
 TEST(SlamParameters, ProtoAndTableListTheSameParameters) {
-    const std::vector<std::string> mismatches = slam_service::mismatches();
+    const std::vector<std::string> mismatches = slam::mismatches();
     for (const std::string& m : mismatches) ADD_FAILURE() << m;
     SystemConfig config;
     EXPECT_GE(parameters(&config).size(), 40u);
@@ -25,7 +25,7 @@ TEST(SlamParameters, ConfigTextSetsTheStructFields) {
         " preprocess { max_depth_m: 4.5 }",
         &params));
     SystemConfig config;
-    ASSERT_TRUE(slam_service::apply(params, &config).is_ok());
+    ASSERT_TRUE(apply(params, &config).is_ok());
     EXPECT_FLOAT_EQ(config.tracking.icp_max_distance_m, 0.2f);
     EXPECT_EQ(config.tracking.iterations, (std::vector<int>{4, 3, 2}));
     EXPECT_FALSE(config.tracking.use_rgb);
@@ -94,10 +94,27 @@ TEST(SlamSystemInput, BadImagesAreErrorsAndDoNotChangeTheSystem) {
     ASSERT_FALSE(r.is_ok());
     EXPECT_NE(r.status().message().find("differs from the first frame"), std::string::npos);
     EXPECT_EQ(system->frames(), 1u);
-    cv::Mat bad_mask(10, 10, CV_8UC1);
-    EXPECT_FALSE(system->process(image, bad_mask).is_ok());
-    EXPECT_TRUE(system->process(image).is_ok());
-    EXPECT_EQ(system->frames(), 2u);
+    // Segments that do not fit the frame are named and not used; the frame is still tracked.
+    dynamics::FrameSegments wrong_size;
+    wrong_size.objects = dynamics::from_labels(cv::Mat(10, 10, CV_16UC1, cv::Scalar(1)),
+                                               dynamics::ObjectKind::kNonRigid);
+    r = system->process(image, wrong_size);
+    ASSERT_TRUE(r.is_ok()) << r.status().message();
+    EXPECT_NE(r->segments_error.find("frame 1: object label image is CV_16UC1 10x10, the frame "
+                                     "640x480"),
+              std::string::npos)
+        << r->segments_error;
+    EXPECT_EQ(system->frames(), 2u);  // processed (a flat, textureless wall: tracked as lost)
+    dynamics::FrameSegments unknown_id;
+    unknown_id.objects.labels = cv::Mat::zeros(480, 640, CV_16UC1);
+    unknown_id.objects.labels.at<uint16_t>(100, 200) = 7;
+    r = system->process(image, unknown_id);
+    ASSERT_TRUE(r.is_ok()) << r.status().message();
+    EXPECT_NE(r->segments_error.find("frame 2: object label 7 at pixel (200, 100) is not in the "
+                                     "instance table"),
+              std::string::npos)
+        << r->segments_error;
+    EXPECT_EQ(system->frames(), 3u);
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 #pragma once
 // Frames of a generated sequence rendered in memory (no files), as a capture would deliver
 // them, with the ground-truth camera pose of each.
+#include <gtest/gtest.h>
+
 #include <Eigen/Geometry>
 #include <string>
 #include <vector>
@@ -14,6 +16,16 @@ struct SimFrame {
     io::RgbdImage image;
     Eigen::Isometry3d world_T_camera;  ///< ground truth
 };
+
+/// A preset with Kinect-like sensor noise, `frames` frames long.
+inline sim::Sequence make_noisy_sequence(const std::string& preset, int frames) {
+    sim::PresetOptions options;
+    options.frames = frames;
+    options.noise = true;
+    auto s = sim::make_sequence(preset, options);
+    EXPECT_TRUE(s.is_ok()) << s.status().message();
+    return *s;
+}
 
 /// Renders frame i of `s` with its sensor model (noise as the preset says).
 inline SimFrame render_sim_frame(const sim::Sequence& s, int i) {

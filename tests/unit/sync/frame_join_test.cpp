@@ -149,5 +149,68 @@ TEST(FrameJoin, BadConfigIsNamed) {
     EXPECT_TRUE(validate(JoinConfig{}).empty());
 }
 
+// A restarted capture counts from 0 again in a new epoch: the join starts over.
+TEST(FrameJoin, ANewRunIsNeverTakenForDuplicates) {
+    FrameJoin join;
+    std::vector<JoinDecision> released;
+    std::vector<JoinDecision> got;
+    int t = 0;
+    for (uint64_t epoch : {100u, 200u}) {
+        for (uint64_t seq = 0; seq < 3; ++seq, t += 33) {
+            EXPECT_NE(join.on_epoch(epoch, t * kMs, &released), EpochCheck::kStale);
+            join.on_segments(seq, capture_ns(seq), Arrival::kOk, t * kMs);
+            join.on_detections(seq, capture_ns(seq), Arrival::kOk, t * kMs);
+            for (const JoinDecision& d : join.poll(t * kMs)) got.push_back(d);
+        }
+    }
+    EXPECT_TRUE(released.empty());  // nothing was waiting when the second run began
+    ASSERT_EQ(got.size(), 6u);
+    EXPECT_EQ(join.duplicates(), 0u);
+    for (size_t i = 0; i < got.size(); ++i) {
+        EXPECT_EQ(got[i].seq, i % 3);
+        EXPECT_EQ(got[i].epoch, i < 3 ? 100u : 200u);
+        EXPECT_TRUE(got[i].detections_used);
+        EXPECT_EQ(got[i].detections_seq, got[i].seq);
+    }
+}
+
+TEST(FrameJoin, FramesWaitingWhenANewRunBeginsAreReleasedAsTheOldRunsLast) {
+    FrameJoin join;
+    std::vector<JoinDecision> released;
+    ASSERT_EQ(join.on_epoch(100, 0, &released), EpochCheck::kNewRun);
+    join.on_segments(7, capture_ns(7), Arrival::kOk, 0);
+    join.on_detections(6, capture_ns(6), Arrival::kOk, 0);  // late boxes of frame 6
+    join.on_segments(8, capture_ns(8), Arrival::kOk, 0);
+    ASSERT_EQ(join.on_epoch(200, 1 * kMs, &released), EpochCheck::kNewRun);
+    ASSERT_EQ(released.size(), 2u);
+    EXPECT_EQ(released[0].seq, 7u);
+    EXPECT_EQ(released[0].epoch, 100u);
+    EXPECT_TRUE(released[0].detections_used);  // frame 6's boxes, 33 ms older
+    EXPECT_EQ(released[0].detections_seq, 6u);
+    EXPECT_EQ(released[1].seq, 8u);
+    EXPECT_TRUE(released[1].detections_used);
+    EXPECT_EQ(released[1].detections_seq, 6u);
+    EXPECT_EQ(join.pending(), 0u);
+    // The new run's frame 7 is a frame of its own, and the old run's boxes are not reused.
+    join.on_segments(7, capture_ns(7), Arrival::kOk, 2 * kMs);
+    const auto d = join.poll(2 * kMs + JoinConfig{}.detection_deadline_ns);
+    ASSERT_EQ(d.size(), 1u);
+    EXPECT_EQ(d[0].seq, 7u);
+    EXPECT_EQ(d[0].epoch, 200u);
+    EXPECT_FALSE(d[0].detections_used);
+    EXPECT_EQ(join.duplicates(), 0u);
+}
+
+TEST(FrameJoin, MessagesOfAnEarlierRunAreStale) {
+    FrameJoin join;
+    std::vector<JoinDecision> released;
+    EXPECT_EQ(join.on_epoch(200, 0, &released), EpochCheck::kNewRun);
+    EXPECT_EQ(join.on_epoch(200, 0, &released), EpochCheck::kCurrent);
+    EXPECT_EQ(join.on_epoch(100, 0, &released), EpochCheck::kStale);
+    EXPECT_EQ(join.stale(), 1u);
+    EXPECT_EQ(join.epoch(), std::optional<uint64_t>(200));
+    EXPECT_TRUE(released.empty());
+}
+
 }  // namespace
 }  // namespace df::sync

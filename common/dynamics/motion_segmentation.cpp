@@ -1,0 +1,213 @@
+#include "dynamics/motion_segmentation.hpp"
+
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+#include <vector>
+
+namespace df::dynamics {
+
+namespace {
+
+std::string describe(const cv::Mat& m) {
+    return m.empty() ? std::string("empty")
+                     : cv::typeToString(m.type()) + " " + std::to_string(m.cols) + "x" +
+                           std::to_string(m.rows);
+}
+
+std::string check_inputs(const MotionInput& in) {
+    const cv::Size size = in.residual_m.size();
+    const auto bad = [&](const char* name, const cv::Mat& m, int type, bool optional) {
+        if (optional && m.empty()) return std::string();
+        if (m.type() == type && m.size() == size) return std::string();
+        return std::string(name) + " must be " + cv::typeToString(type) + " " +
+               std::to_string(size.width) + "x" + std::to_string(size.height) + ", got " +
+               describe(m);
+    };
+    if (in.residual_m.empty() || in.residual_m.type() != CV_32F)
+        return "residual_m must be CV_32FC1, got " + describe(in.residual_m);
+    for (const std::string& e : {bad("depth_m", in.depth_m, CV_32F, false),
+                                 bad("excluded", in.excluded, CV_8UC1, true),
+                                 bad("geometric", in.geometric, CV_32SC1, true),
+                                 bad("carried", in.carried, CV_8UC1, true),
+                                 bad("photometric", in.photometric, CV_32F, true)})
+        if (!e.empty()) return e;
+    if (in.geometric_count < 0) return "geometric_count must be >= 0";
+    return "";
+}
+
+}  // namespace
+
+std::string validate(const MotionSegmentationConfig& c) {
+    std::ostringstream msg;
+    const auto positive = [&msg](const char* name, double v) {
+        if (msg.str().empty() && !(v > 0)) msg << name << " must be > 0, got " << v;
+    };
+    const auto fraction = [&msg](const char* name, double v) {
+        if (msg.str().empty() && !(v >= 0 && v <= 1))
+            msg << name << " must be in [0, 1], got " << v;
+    };
+    positive("max_residual_m", c.max_residual_m);
+    positive("min_residual_m", c.min_residual_m);
+    if (msg.str().empty() && !(c.min_residual_per_m2 >= 0))
+        msg << "min_residual_per_m2 must be >= 0, got " << c.min_residual_per_m2;
+    if (msg.str().empty() && !(c.min_centroid_gap_m >= 0))
+        msg << "min_centroid_gap_m must be >= 0, got " << c.min_centroid_gap_m;
+    fraction("min_dynamic_fraction", c.min_dynamic_fraction);
+    fraction("min_segment_fraction", c.min_segment_fraction);
+    fraction("carried_segment_fraction", c.carried_segment_fraction);
+    fraction("carry_min_overlap", c.carry_min_overlap);
+    if (msg.str().empty() && c.min_segment_pixels < 1)
+        msg << "min_segment_pixels must be >= 1, got " << c.min_segment_pixels;
+    if (msg.str().empty() && c.min_region_pixels < 1)
+        msg << "min_region_pixels must be >= 1, got " << c.min_region_pixels;
+    if (msg.str().empty() && !(c.min_photometric >= 0 && c.min_photometric <= 255))
+        msg << "min_photometric must be in [0, 255], got " << c.min_photometric;
+    if (msg.str().empty() && (c.dilate_px < 0 || c.dilate_px > 32))
+        msg << "dilate_px must be in 0..32, got " << c.dilate_px;
+    return msg.str();
+}
+
+Result<MotionResult> segment_motion(const MotionInput& in, const MotionSegmentationConfig& c) {
+    if (std::string e = validate(c); !e.empty())
+        return error(StatusCode::kInvalidArgument, "MotionSegmentationConfig: " + e);
+    if (std::string e = check_inputs(in); !e.empty())
+        return error(StatusCode::kInvalidArgument, "motion segmentation: " + e);
+    const int rows = in.residual_m.rows, cols = in.residual_m.cols;
+    MotionResult out;
+    out.mask = cv::Mat::zeros(rows, cols, CV_8UC1);
+
+    // 1. Cluster the clipped residuals of the pixels not already left out.
+    Histogram histogram(c.max_residual_m, 256);
+    for (int y = 0; y < rows; ++y) {
+        const float* r = in.residual_m.ptr<float>(y);
+        const uint8_t* ex = in.excluded.empty() ? nullptr : in.excluded.ptr<uint8_t>(y);
+        for (int x = 0; x < cols; ++x)
+            if (std::isfinite(r[x]) && !(ex && ex[x])) histogram.add(std::fabs(r[x]));
+    }
+    out.residual_pixels = histogram.count();
+    out.clusters = histogram.two_means();
+    if (out.residual_pixels == 0 || out.clusters.high - out.clusters.low < c.min_centroid_gap_m)
+        return out;
+
+    // 2. Dynamic pixels: in the high cluster and above the noise at their depth.
+    cv::Mat dynamic = cv::Mat::zeros(rows, cols, CV_8UC1);
+    const cv::Mat* photo =
+        (c.min_photometric > 0.f && !in.photometric.empty()) ? &in.photometric : nullptr;
+    for (int y = 0; y < rows; ++y) {
+        const float* r = in.residual_m.ptr<float>(y);
+        const float* z = in.depth_m.ptr<float>(y);
+        const uint8_t* ex = in.excluded.empty() ? nullptr : in.excluded.ptr<uint8_t>(y);
+        uint8_t* d = dynamic.ptr<uint8_t>(y);
+        for (int x = 0; x < cols; ++x) {
+            if (!std::isfinite(r[x]) || (ex && ex[x])) continue;
+            const float a = std::min(std::fabs(r[x]), c.max_residual_m);
+            const float floor_m = c.min_residual_m + c.min_residual_per_m2 * z[x] * z[x];
+            if (a > out.clusters.threshold && a > floor_m) {
+                d[x] = 255;
+                ++out.dynamic_pixels;
+            } else if (photo != nullptr) {
+                const float p = photo->ptr<float>(y)[x];
+                if (std::isfinite(p) && p > c.min_photometric) d[x] = 128;  // evidence only
+            }
+        }
+    }
+    if (out.dynamic_pixels == 0 ||
+        static_cast<float>(out.dynamic_pixels) <
+            c.min_dynamic_fraction * static_cast<float>(out.residual_pixels))
+        return out;
+
+    // 3. Grow to whole objects: segments with enough evidence, or (no segments) large regions.
+    if (!in.geometric.empty() && in.geometric_count > 0) {
+        const size_t n = static_cast<size_t>(in.geometric_count) + 1;
+        std::vector<int> with_residual(n, 0), dyn(n, 0), geometric_dyn(n, 0), carried(n, 0),
+            size(n, 0);
+        for (int y = 0; y < rows; ++y) {
+            const int* g = in.geometric.ptr<int>(y);
+            const float* r = in.residual_m.ptr<float>(y);
+            const uint8_t* d = dynamic.ptr<uint8_t>(y);
+            const uint8_t* cm = in.carried.empty() ? nullptr : in.carried.ptr<uint8_t>(y);
+            const uint8_t* ex = in.excluded.empty() ? nullptr : in.excluded.ptr<uint8_t>(y);
+            for (int x = 0; x < cols; ++x) {
+                const size_t s = static_cast<size_t>(g[x]);
+                if (s == 0 || (ex && ex[x])) continue;
+                ++size[s];
+                with_residual[s] += std::isfinite(r[x]) ? 1 : 0;
+                dyn[s] += d[x] ? 1 : 0;
+                geometric_dyn[s] += d[x] == 255 ? 1 : 0;
+                carried[s] += (cm && cm[x]) ? 1 : 0;
+            }
+        }
+        std::vector<uint8_t> take(n, 0);
+        for (size_t s = 1; s < n; ++s) {
+            if (geometric_dyn[s] < c.min_segment_pixels || with_residual[s] == 0) continue;
+            const bool was_dynamic =
+                size[s] > 0 && static_cast<float>(carried[s]) >=
+                                   c.carry_min_overlap * static_cast<float>(size[s]);
+            const float need = was_dynamic ? c.carried_segment_fraction : c.min_segment_fraction;
+            if (static_cast<float>(dyn[s]) >= need * static_cast<float>(with_residual[s])) {
+                take[s] = 255;
+                ++out.segments;
+            }
+        }
+        for (int y = 0; y < rows; ++y) {
+            const int* g = in.geometric.ptr<int>(y);
+            const uint8_t* ex = in.excluded.empty() ? nullptr : in.excluded.ptr<uint8_t>(y);
+            uint8_t* m = out.mask.ptr<uint8_t>(y);
+            for (int x = 0; x < cols; ++x)
+                if (take[static_cast<size_t>(g[x])] && !(ex && ex[x])) m[x] = 255;
+        }
+    } else {
+        cv::Mat labels, stats, centroids;
+        const int count =
+            cv::connectedComponentsWithStats(dynamic == 255, labels, stats, centroids, 8);
+        std::vector<uint8_t> take(static_cast<size_t>(count), 0);
+        for (int k = 1; k < count; ++k) {
+            if (stats.at<int>(k, cv::CC_STAT_AREA) >= c.min_region_pixels) {
+                take[static_cast<size_t>(k)] = 255;
+                ++out.segments;
+            }
+        }
+        for (int y = 0; y < rows; ++y) {
+            const int* l = labels.ptr<int>(y);
+            uint8_t* m = out.mask.ptr<uint8_t>(y);
+            for (int x = 0; x < cols; ++x) m[x] = take[static_cast<size_t>(l[x])];
+        }
+    }
+    if (c.dilate_px > 0 && out.segments > 0) {
+        const int k = 2 * c.dilate_px + 1;
+        cv::dilate(out.mask, out.mask, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k)));
+        if (!in.excluded.empty()) out.mask.setTo(0, in.excluded);
+    }
+    out.mask_pixels = cv::countNonZero(out.mask);
+    out.moving = out.mask_pixels > 0;
+    return out;
+}
+
+cv::Mat warp_mask(const cv::Mat& previous, const cv::Mat& vertex,
+                  const Eigen::Isometry3f& previous_T_current, float fx, float fy, float cx,
+                  float cy) {
+    cv::Mat out = cv::Mat::zeros(vertex.size(), CV_8UC1);
+    if (previous.empty() || previous.size() != vertex.size()) return out;
+    const Eigen::Matrix3f r = previous_T_current.linear();
+    const Eigen::Vector3f t = previous_T_current.translation();
+    for (int y = 0; y < vertex.rows; ++y) {
+        const cv::Vec3f* v = vertex.ptr<cv::Vec3f>(y);
+        uint8_t* o = out.ptr<uint8_t>(y);
+        for (int x = 0; x < vertex.cols; ++x) {
+            if (!(v[x][2] > 0.f)) {
+                o[x] = previous.at<uint8_t>(y, x);
+                continue;
+            }
+            const Eigen::Vector3f q = r * Eigen::Vector3f(v[x][0], v[x][1], v[x][2]) + t;
+            if (!(q.z() > 0.f)) continue;
+            const int u = static_cast<int>(std::lround(fx * q.x() / q.z() + cx));
+            const int w = static_cast<int>(std::lround(fy * q.y() / q.z() + cy));
+            if (u < 0 || w < 0 || u >= previous.cols || w >= previous.rows) continue;
+            o[x] = previous.at<uint8_t>(w, u);
+        }
+    }
+    return out;
+}
+
+}  // namespace df::dynamics

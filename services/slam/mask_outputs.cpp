@@ -1,0 +1,113 @@
+#include "mask_outputs.hpp"
+
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "detect/detector.hpp"
+#include "eval/plot_canvas.hpp"
+#include "io/tum/stamp.hpp"
+
+namespace df::slam_service {
+namespace {
+
+cv::Mat upscale(const cv::Mat& labels, cv::Size size) {
+    if (labels.empty()) return cv::Mat::zeros(size, CV_16UC1);
+    cv::Mat out;
+    if (labels.size() == size) {
+        out = labels;
+    } else {
+        cv::resize(labels, out, size, 0, 0, cv::INTER_NEAREST);
+    }
+    if (out.type() != CV_16UC1) out.convertTo(out, CV_16UC1);
+    return out;
+}
+
+using eval::write_png;
+
+cv::Scalar tint_of(dynamics::ObjectKind kind) {
+    switch (kind) {
+        case dynamics::ObjectKind::kNonRigid:
+            return {255, 40, 40};
+        case dynamics::ObjectKind::kRigid:
+            return {40, 90, 255};
+        case dynamics::ObjectKind::kUnknown:
+            return {255, 220, 0};
+    }
+    return {255, 255, 255};
+}
+
+cv::Mat overlay(const io::RgbdImage& image, const dynamics::LabelImage& invalid, float scale) {
+    cv::Mat rgb = image.rgb.clone();  // R,G,B
+    cv::Mat labels = upscale(invalid.labels, rgb.size());
+    std::vector<cv::Vec3b> colour(65536, cv::Vec3b(0, 0, 0));
+    std::vector<uint8_t> has(65536, 0);
+    for (const dynamics::InstanceInfo& i : invalid.instances) {
+        const cv::Scalar t = tint_of(i.kind);
+        colour[i.id] = cv::Vec3b(uint8_t(t[0]), uint8_t(t[1]), uint8_t(t[2]));
+        has[i.id] = 1;
+    }
+    for (int y = 0; y < rgb.rows; ++y) {
+        cv::Vec3b* p = rgb.ptr<cv::Vec3b>(y);
+        const uint16_t* l = labels.ptr<uint16_t>(y);
+        for (int x = 0; x < rgb.cols; ++x) {
+            if (!has[l[x]]) continue;
+            for (int c = 0; c < 3; ++c) p[x][c] = uint8_t((p[x][c] + colour[l[x]][c]) / 2);
+        }
+    }
+    for (const dynamics::InstanceInfo& i : invalid.instances) {
+        if (i.box.width <= 0) continue;
+        const cv::Rect box(cv::Point(int(i.box.x * scale), int(i.box.y * scale)),
+                           cv::Size(int(i.box.width * scale), int(i.box.height * scale)));
+        cv::rectangle(rgb, box, tint_of(i.kind), 2);
+        std::string name = i.kind == dynamics::ObjectKind::kUnknown
+                               ? "unknown mover"
+                               : (i.class_id >= 0 ? (i.class_id < int(detect::coco_names().size()) ? detect::coco_names()[size_t(i.class_id)] : std::string("object")) : "object");
+        if (i.kind != dynamics::ObjectKind::kUnknown && i.score < 1.f)
+            name += " " + std::to_string(int(i.score * 100 + 0.5f)) + "%";
+        cv::putText(rgb, name, box.tl() + cv::Point(2, 14), cv::FONT_HERSHEY_SIMPLEX, 0.45,
+                    tint_of(i.kind), 1, cv::LINE_AA);
+    }
+    cv::Mat bgr;
+    cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+    return bgr;
+}
+
+}  // namespace
+
+Result<MaskOutputs> MaskOutputs::open(const std::string& dir, bool with_overlay) {
+    std::error_code ec;
+    for (const char* sub : {"invalid", "motion", "objects", "overlay"}) {
+        if (std::string(sub) == "overlay" && !with_overlay) continue;
+        std::filesystem::create_directories(dir + "/" + sub, ec);
+        if (ec) {
+            return error(StatusCode::kIoError,
+                         "cannot create " + dir + "/" + sub + ": " + ec.message());
+        }
+    }
+    return MaskOutputs(dir, with_overlay);
+}
+
+Status MaskOutputs::write(const io::RgbdImage& image, const dynamics::FrameSegments& segments,
+                          const slam::FrameReport& report, int factor) const {
+    const cv::Size size = image.depth.size();
+    const std::string name = io::stamp_text(report.sensor_ns);
+    DF_RETURN_IF_ERROR(
+        write_png(dir_ + "/invalid/" + name + ".png", upscale(report.invalid.labels.labels, size)));
+    cv::Mat motion = cv::Mat::zeros(size, CV_16UC1);
+    if (!report.motion.mask.empty() && cv::countNonZero(report.motion.mask) > 0) {
+        cv::Mat regions;
+        cv::connectedComponents(report.motion.mask, regions, 8, CV_32S);
+        motion = upscale(regions, size);
+    }
+    DF_RETURN_IF_ERROR(write_png(dir_ + "/motion/" + name + ".png", motion));
+    DF_RETURN_IF_ERROR(
+        write_png(dir_ + "/objects/" + name + ".png", upscale(segments.objects.labels, size)));
+    if (overlay_) {
+        DF_RETURN_IF_ERROR(write_png(dir_ + "/overlay/" + name + ".png",
+                                     overlay(image, report.invalid.labels, float(factor))));
+    }
+    return Status::ok();
+}
+
+}  // namespace df::slam_service
