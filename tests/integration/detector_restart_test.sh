@@ -44,7 +44,11 @@ done
 [ -n "${new:-}" ] && [ "$new" != "$pid" ] || fail "detector not restarted after kill -9 ($($SUP status))"
 pass "detector killed (pid $pid) and restarted by the supervisor (pid $new)"
 wait $cap || fail "capture failed: $(tail -3 "$TMP/capture.log")"
-timeout 30 bash -c "while kill -0 $echo_pid 2>/dev/null; do sleep 0.2; done" || fail "object_segments stopped: $(grep -c header: "$TMP/echo.out") of $N frames"
+missing() {  # the sequence numbers echo has not printed
+  /usr/bin/python3 -c 'import re,sys; got={int(s) for s in re.findall(r"\bseq:\s*(\d+)", open(sys.argv[1]).read())}; print(sorted(set(range(int(sys.argv[2]))) - got))' "$TMP/echo.out" $N
+}
+timeout 30 bash -c "while kill -0 $echo_pid 2>/dev/null; do sleep 0.2; done" ||
+  fail "object_segments stopped: $(grep -c header: "$TMP/echo.out") of $N frames; missing $(missing); fusion: $(grep -v '^ *$' "$TMP/run/logs/fusion.log" | tail -5); geoseg: $(tail -3 "$TMP/run/logs/geoseg.log")"
 /usr/bin/python3 - "$TMP/echo.out" $N <<'PY' || fail "object_segments: $(tail -c 1000 "$TMP/echo.out")"
 import re, sys
 text, n = open(sys.argv[1]).read(), int(sys.argv[2])

@@ -22,8 +22,18 @@ service {
   args: ["--set", "dds { ns: \"\${DF_NS}\" }", "--set", "model_path: \"$TMP/no-such-model\""]
   priority: 50
 }
+service {
+  name: "slowrefuse"
+  binary: "$TMP/slow_refuse.sh"
+  priority: 50
+}
 $(capture_service)
 PB
+# A service that refuses its configuration only after START_S (as a loaded machine makes any
+# service do): exit status 2 must still end in FATAL, not in restarts for ever.
+printf '#!/bin/sh\necho "[error] slowrefuse: no such calibration (made up)"\nsleep 2\nexit 2\n' \
+  > "$TMP/slow_refuse.sh"
+chmod +x "$TMP/slow_refuse.sh"
 sup_up "$TMP/pipeline.pbtxt"
 
 # geoseg's answers: "<answers> <age_s>" from df_health's file (empty when none yet).
@@ -66,6 +76,12 @@ line=$($SUP status | grep "^detector" || true)
 starts=$(grep -c "spawned: 'detector'" "$RUN/supervisord.log")
 [ "$starts" -le 5 ] || fail "detector was started $starts times before FATAL"
 pass "detector FATAL after $starts starts: ${line#*last error: }"
+for _ in $(seq 100); do $SUP status | grep -q "^slowrefuse .*FATAL" && break; sleep 0.1; done
+line=$($SUP status | grep "^slowrefuse" || true)
+[[ "$line" == *FATAL*"no such calibration"* ]] || fail "a service refusing after 2 s is not FATAL with its reason: $line"
+starts=$(grep -c "spawned: 'slowrefuse'" "$RUN/supervisord.log")
+[ "$starts" -eq 1 ] || fail "a service refusing its configuration after 2 s was started $starts times"
+pass "a slow refusal is FATAL after one start: ${line#*last error: }"
 # Waiting for another service while one can never start stops at once, naming it (main.sh waits
 # for slam: a FATAL capture or detector must not leave it waiting for frames for 15 minutes).
 rc=0; out=$($SUP wait geoseg --timeout 60 2>&1) || rc=$?
@@ -112,7 +128,7 @@ if out2=$($SUP up "$TMP/pipeline.pbtxt" 2>&1); then fail "a second up on the sam
 $SUP status >/dev/null || fail "the first pipeline does not answer after the refusals"
 pass "second up refused: ${out#dfsup: error: }"
 
-pids=$($SUP status | awk '$4 ~ /^[0-9]+$/ && $4 != 0 {print $4}')
+pids=$($SUP status | awk '$3 == "pid" && $4 ~ /^[0-9]+$/ && $4 != 0 {print $4}')
 sup_pid=$(cat "$RUN/supervisord.pid")
 sup_down
 for p in $pids $sup_pid; do
