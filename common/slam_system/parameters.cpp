@@ -211,6 +211,14 @@ std::vector<Parameter> parameters(SystemConfig* c) {
         {"invalid.fuse_behind_model_m",
          "invalid pixels this far behind the model are fused (clears ghosts; 0 never)",
          &iv.fuse_behind_model_m},
+
+        {"memory.frames",
+         "a rigid instance pixel stays left out this many frames after its last detection (0 off)",
+         &d.memory.frames},
+        {"memory.max_depth_difference_m", "... while the frame's depth there stays this close",
+         &d.memory.max_depth_difference_m},
+        {"memory.max_depth_difference_per_m2", "... plus this times depth^2",
+         &d.memory.max_depth_difference_per_m2},
     };
 }
 

@@ -1,5 +1,6 @@
 #include "slam_system/slam_system.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <opencv2/imgproc.hpp>
 
@@ -91,6 +92,7 @@ Result<FrameReport> SlamSystem::process(const io::RgbdImage& image,
     report.sensor_ns = image.sensor_ns;
     Input in;
     DF_RETURN_IF_ERROR(prepare(image, segments, where, &in, &report));
+    recall_instances(&in);
     if (!started_) {
         report.first = true;
         report.tracking.state = TrackingState::kOk;
@@ -102,6 +104,7 @@ Result<FrameReport> SlamSystem::process(const io::RgbdImage& image,
         DF_RETURN_IF_ERROR(track_static(in, &report).with_context(where));
     }
     update_pose(image.sensor_ns, &report);
+    store_instances(in);
     input_size_ = image.depth.size();
     if (report.tracking.state == TrackingState::kOk || config_.system.fuse_when_lost) {
         DF_RETURN_IF_ERROR(map_static(in, &report).with_context(where));
@@ -160,6 +163,46 @@ Status SlamSystem::prepare(const io::RgbdImage& image, const dynamics::FrameSegm
                            : cv::Mat::zeros(size, CV_16UC1);
     in->instances = in->instance_ids != 0;
     return Status::ok();
+}
+
+void SlamSystem::recall_instances(Input* in) {
+    const DynamicsOptions& d = config_.dynamics;
+    if (!d.use_segments || !d.invalid.rigid || d.memory.frames <= 0) return;
+    const cv::Size size = in->instance_ids.size();
+    in->rigid = dynamics::mask_of({in->instance_ids, in->segments.objects.instances},
+                                  {dynamics::ObjectKind::kRigid}, size);
+    if (!started_ || lost_) return;
+    const Eigen::Isometry3d previous_T_current =
+        config_.system.constant_velocity ? last_motion_ : Eigen::Isometry3d::Identity();
+    const FrameLevel& level = in->frame.levels[0];
+    const io::Intrinsics& k = level.intrinsics;
+    cv::Mat recalled = memory_.recall(level.vertex, previous_T_current.cast<float>(),
+                                      static_cast<float>(k.fx), static_cast<float>(k.fy),
+                                      static_cast<float>(k.cx), static_cast<float>(k.cy), d.memory);
+    recalled.setTo(0, in->instances);
+    const int pixels = cv::countNonZero(recalled);
+    int id = 1;
+    for (const dynamics::InstanceInfo& row : in->segments.objects.instances)
+        id = std::max(id, row.id + 1);
+    if (pixels == 0 || id > 65535) return;
+    dynamics::InstanceInfo row;
+    row.id = static_cast<uint16_t>(id);
+    row.kind = dynamics::ObjectKind::kRigid;
+    row.pixels = pixels;
+    in->segments.objects.instances.push_back(row);
+    in->instance_ids.setTo(row.id, recalled);
+    in->instances.setTo(255, recalled);
+}
+
+void SlamSystem::store_instances(const Input& in) {
+    if (in.rigid.empty()) return;
+    if (lost_) {
+        memory_.clear();
+        return;
+    }
+    // The recalled pixels are kept by the memory itself (one frame older); `rigid` is what the
+    // detector saw in this frame.
+    memory_.store(in.rigid, in.frame.levels[0].depth_m, config_.dynamics.memory);
 }
 
 Status SlamSystem::track_static(const Input& in, FrameReport* report) {

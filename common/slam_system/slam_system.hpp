@@ -15,6 +15,7 @@
 
 #include "core/status.hpp"
 #include "dynamics/frame_segments.hpp"
+#include "dynamics/instance_memory.hpp"
 #include "dynamics/invalid_mask.hpp"
 #include "dynamics/motion_segmentation.hpp"
 #include "io/rgbd_image.hpp"
@@ -128,12 +129,18 @@ class SlamSystem {
         Frame frame;
         cv::Mat instance_ids;  ///< CV_16UC1, the instances left out (instance_labels)
         cv::Mat instances;     ///< CV_8UC1, instance_ids as a mask (255 = left out)
+        cv::Mat rigid;         ///< CV_8UC1, the rigid instances this frame's segments hold
     };
 
     explicit SlamSystem(const SystemConfig& config, const Eigen::Isometry3d& initial);
     /// Checks and downscales the image and its segments, preprocesses the frame.
     Status prepare(const io::RgbdImage& image, const dynamics::FrameSegments& segments,
                    const std::string& where, Input* in, FrameReport* report) const;
+    /// Adds the rigid instances the memory holds and this frame's segments miss to the
+    /// instances left out (one table row, class -1, kind rigid).
+    void recall_instances(Input* in);
+    /// Stores this frame's rigid instances in the memory (forgets it when tracking is lost).
+    void store_instances(const Input& in);
     /// Stage 1, motion segmentation, stage 2; fills report->tracking and report->invalid.
     Status track_static(const Input& in, FrameReport* report);
     /// Moves the camera to the tracked pose (or counts the frame lost) and logs it.
@@ -149,6 +156,7 @@ class SlamSystem {
     Eigen::Isometry3d world_T_camera_;
     Eigen::Isometry3d last_motion_ = Eigen::Isometry3d::Identity();  ///< previous_T_current
     cv::Mat previous_motion_;  ///< the last frame's motion mask (carried forward)
+    dynamics::InstanceMemory memory_;  ///< rigid instances of the last frames
     std::vector<io::StampedPose> trajectory_;
     uint64_t frames_ = 0;
     uint64_t lost_frames_ = 0;

@@ -7,6 +7,7 @@
 
 #include <vector>
 
+#include "dynamics/instance_memory.hpp"
 #include "dynamics/invalid_mask.hpp"
 #include "dynamics/motion_segmentation.hpp"
 #include "map/surfel_map.hpp"
@@ -65,6 +66,8 @@ struct DynamicsOptions {
     float max_rescue_fraction = 0.3f;
     dynamics::MotionSegmentationConfig motion;
     dynamics::InvalidMaskConfig invalid;
+    /// Rigid instances remembered over the frames the detector misses (when invalid.rigid).
+    dynamics::InstanceMemoryConfig memory;
 };
 
 struct SystemConfig {
