@@ -72,7 +72,9 @@ TEST(InstanceMemory, ADetectionStartsTheTimeAgain) {
     for (int i = 0; i <= 10; ++i) {
         View v = view(0.01f * i);
         cv::Mat recalled = memory.recall(v.vertex, moved_by(0.01f), kF, kF, kCx, kCy, config);
-        if (i > 0) EXPECT_GT(iou(recalled, v.box), 0.95) << "frame " << i;
+        if (i > 0) {
+            EXPECT_GT(iou(recalled, v.box), 0.95) << "frame " << i;
+        }
         memory.store(i % 3 == 0 ? v.box : none, v.depth, config);  // seen every third frame
     }
 }
