@@ -100,6 +100,19 @@ void DetectorNode::answer(const df_msg_Header& header, df_msg_FrameStatus status
     (void)status_.write_copy(st);
 }
 
+void DetectorNode::answer_missed(const Pending& p) {
+    const std::vector<uint64_t> missed = gaps_.arrived(p.header.epoch, p.header.seq);
+    if (missed.empty()) return;
+    log::info("seq=", p.header.seq, " frames ", missed.front(), "..", missed.back(),
+              " never reached this stage (the reader fell behind): answered skipped");
+    df_msg_Header h = p.header;
+    for (uint64_t seq : missed) {
+        h.seq = seq;
+        ++skipped_;
+        answer(h, df_msg_FRAME_SKIPPED, {}, p.source_width, p.source_height, 0);
+    }
+}
+
 void DetectorNode::handle(const Pending& p) {
     const df_msg_Header& header = p.header;
     const uint32_t nth = std::max<uint32_t>(1, config_.every_nth());
@@ -199,7 +212,10 @@ Status DetectorNode::run() {
             if (!pending[i].valid) {
                 ++failed_;
                 answer(pending[i].header, df_msg_FRAME_FAILED, {}, 0, 0, 0);
-            } else if (i + 1 < pending.size()) {  // stay current: answer the older ones skipped
+                continue;
+            }
+            answer_missed(pending[i]);
+            if (i + 1 < pending.size()) {  // stay current: answer the older ones skipped
                 ++skipped_;
                 answer(pending[i].header, df_msg_FRAME_SKIPPED, {}, pending[i].source_width,
                        pending[i].source_height, 0);
@@ -209,9 +225,11 @@ Status DetectorNode::run() {
         }
         if (const char* why = stream.check(matched_writers(), pending.empty())) {
             log::info("stream ended (", why, "): ", detected_, " frames detected, ", skipped_,
-                      " skipped, ", failed_, " failed");
+                      " skipped, ", failed_, " failed (",
+                      gaps_.missed(), " of the skipped never reached the reader)");
             if (config_.exit_at_end()) return Status::ok();
             stream.reset();
+            gaps_ = {};
             detected_ = skipped_ = failed_ = 0;
         }
     }

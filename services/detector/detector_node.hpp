@@ -18,6 +18,7 @@
 #include "df_msgs.h"
 #include "io/rgbd_image.hpp"
 #include "sim/simulated_detector.hpp"
+#include "sync/seq_gaps.hpp"
 
 namespace df::detector_service {
 
@@ -49,6 +50,8 @@ class DetectorNode {
     void handle(const Pending& p);
     void answer(const df_msg_Header& header, df_msg_FrameStatus status,
                 const std::vector<detect::Detection>& boxes, int width, int height, double ms);
+    /// Answers, as skipped, the frames of this run that never reached the reader before `p`.
+    void answer_missed(const Pending& p);
 
     config::DetectorServiceConfig config_;
     std::unique_ptr<BoxSource> source_;
@@ -58,6 +61,7 @@ class DetectorNode {
     dds::Writer<df_msg_StageStatus> status_;
     dds::WaitSet waitset_;
     dds::RejectLog rejects_;
+    sync::SeqGaps gaps_;
     uint64_t detected_ = 0, skipped_ = 0, failed_ = 0;
 };
 

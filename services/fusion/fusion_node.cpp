@@ -134,6 +134,16 @@ Status FusionNode::take(int64_t now) {
     auto s = segments_in_.take(
         [&](const df_msg_GeometricSegments& m, const dds_sample_info_t& info) {
             if (!info.valid_data || !admit(m.header, now)) return;
+            // Segments this reader lost (it fell behind): those frames are answered skipped.
+            for (uint64_t seq : segment_gaps_.arrived(m.header.epoch, m.header.seq)) {
+                Segments lost;
+                lost.header = m.header;
+                lost.header.seq = seq;
+                lost.header.status = df_msg_FRAME_SKIPPED;
+                segments_[seq] = std::move(lost);
+                join_.on_segments(seq, static_cast<int64_t>(m.header.capture_ns),
+                                  sync::Arrival::kSkipped, now);
+            }
             Segments seg;
             seg.header = m.header;
             const auto checked =

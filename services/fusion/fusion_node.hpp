@@ -17,6 +17,7 @@
 #include "fusion.pb.h"
 #include "seg/instance_segmentation.hpp"
 #include "sync/frame_join.hpp"
+#include "sync/seq_gaps.hpp"
 
 namespace df::fusion_service {
 
@@ -63,6 +64,7 @@ class FusionNode {
     dds::WaitSet waitset_;
     dds::RejectLog rejects_;  ///< samples that failed their check
     sync::FrameJoin join_;
+    sync::SeqGaps segment_gaps_;  ///< geometric segments this reader never received
     std::map<uint64_t, Segments> segments_;
     std::map<uint64_t, std::vector<detect::Detection>> detections_;
     uint64_t published_ = 0, with_own_ = 0, with_reused_ = 0, without_ = 0;

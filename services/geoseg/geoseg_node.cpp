@@ -100,6 +100,19 @@ void GeosegNode::answer(const df_msg_Header& header, df_msg_FrameStatus status) 
     (void)status_.write_copy(st);
 }
 
+void GeosegNode::answer_missed(const df_msg_Header& header) {
+    const std::vector<uint64_t> missed = gaps_.arrived(header.epoch, header.seq);
+    if (missed.empty()) return;
+    log::info("seq=", header.seq, " frames ", missed.front(), "..", missed.back(),
+              " never reached this stage (the reader fell behind): answered skipped");
+    df_msg_Header h = header;
+    for (uint64_t seq : missed) {
+        h.seq = seq;
+        ++skipped_;
+        answer(h, df_msg_FRAME_SKIPPED);
+    }
+}
+
 void GeosegNode::handle(const io::RgbdImage& image, const df_msg_Header& header) {
     const int64_t t0 = now_ns();
     auto frame = slam::preprocess(image, preprocess_);
@@ -180,7 +193,10 @@ Status GeosegNode::run() {
             if (!pending[i].valid) {
                 ++failed_;
                 answer(pending[i].header, df_msg_FRAME_FAILED);
-            } else if (i + 1 < pending.size()) {
+                continue;
+            }
+            answer_missed(pending[i].header);
+            if (i + 1 < pending.size()) {
                 ++skipped_;
                 answer(pending[i].header, df_msg_FRAME_SKIPPED);
             } else {
@@ -189,9 +205,11 @@ Status GeosegNode::run() {
         }
         if (const char* why = stream.check(frames_.matched_writers(), pending.empty())) {
             log::info("stream ended (", why, "): ", processed_, " frames segmented, ", skipped_,
-                      " skipped, ", failed_, " failed");
+                      " skipped, ", failed_, " failed (",
+                      gaps_.missed(), " of the skipped never reached the reader)");
             if (config_.exit_at_end()) return Status::ok();
             stream.reset();
+            gaps_ = {};
             processed_ = skipped_ = failed_ = 0;
         }
     }

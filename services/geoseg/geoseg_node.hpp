@@ -2,7 +2,8 @@
 /// The geometric segmentation service's adapter: <ns>/frames in; for every frame
 /// <ns>/geometric_segments (label image, or status skipped/failed with no labels) and
 /// <ns>/stage_status (timings; capture's lockstep answer) out. Frames that pile up while it works
-/// are answered as skipped and the newest is processed.
+/// are answered as skipped and the newest is processed; frames the reader lost (a full history
+/// over shared memory) are answered as skipped too.
 #include <memory>
 
 #include "dds/participant.hpp"
@@ -15,6 +16,7 @@
 #include "io/rgbd_image.hpp"
 #include "seg/geometric_segmentation.hpp"
 #include "slam/slam_config.hpp"
+#include "sync/seq_gaps.hpp"
 
 namespace df::geoseg_service {
 
@@ -39,6 +41,8 @@ class GeosegNode {
                dds::Writer<df_msg_StageStatus> status, dds::WaitSet waitset);
     void handle(const io::RgbdImage& image, const df_msg_Header& header);
     void answer(const df_msg_Header& header, df_msg_FrameStatus status);
+    /// Answers, as skipped, the frames of this run that never reached the reader before `header`.
+    void answer_missed(const df_msg_Header& header);
 
     config::GeosegServiceConfig config_;
     seg::GeometricSegmentationConfig seg_;
@@ -48,6 +52,7 @@ class GeosegNode {
     dds::Writer<df_msg_StageStatus> status_;
     dds::WaitSet waitset_;
     dds::RejectLog rejects_;
+    sync::SeqGaps gaps_;
     uint64_t processed_ = 0, skipped_ = 0, failed_ = 0;
 };
 

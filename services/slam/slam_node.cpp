@@ -370,6 +370,13 @@ Status SlamNode::take_inputs(size_t* frames_taken) {
                 return;
             }
             if (!epoch_of(f.header)) return;
+            // Frames this reader lost (it fell behind): answered skipped, so no stage waits.
+            df_msg_Header lost = f.header;
+            for (uint64_t seq : frame_gaps_.arrived(f.header.epoch, f.header.seq)) {
+                ++skipped_;
+                lost.seq = seq;
+                answer_unprocessed(lost, df_msg_FRAME_SKIPPED);
+            }
             waiting_[f.header.seq] = {dds::to_image(*frame), f.header};
             join_.on_frame(f.header.seq, now);
             ++*frames_taken;

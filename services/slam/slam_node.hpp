@@ -26,6 +26,7 @@
 #include "slam.pb.h"
 #include "slam_system/slam_system.hpp"
 #include "sync/companion_join.hpp"
+#include "sync/seq_gaps.hpp"
 
 namespace df::slam_service {
 
@@ -85,6 +86,7 @@ class SlamNode {
     dds::WaitSet waitset_;
     dds::RejectLog rejects_;  ///< samples that failed their check
     sync::CompanionJoin join_;
+    sync::SeqGaps frame_gaps_;  ///< frames this reader never received
     std::map<uint64_t, PendingFrame> waiting_;              ///< frames in the join, by seq
     std::map<uint64_t, dynamics::LabelImage> objects_in_;    ///< by seq
     std::map<uint64_t, std::pair<cv::Mat, int>> geometric_in_;  ///< labels, count, by seq

@@ -128,7 +128,7 @@ inline int segments_across_depth_steps(const cv::Mat& labels, const cv::Mat& ins
             if (s <= 0) continue;
             const int id = instance.at<uint16_t>(y, x);
             const float z = depth_m.at<float>(y, x);
-            for (const auto [nx, ny] : {std::pair{x + 1, y}, std::pair{x, y + 1}}) {
+            for (const auto& [nx, ny] : {std::pair{x + 1, y}, std::pair{x, y + 1}}) {
                 if (labels.at<int32_t>(ny, nx) != s || instance.at<uint16_t>(ny, nx) == id)
                     continue;
                 const float zn = depth_m.at<float>(ny, nx);
