@@ -112,6 +112,13 @@ Status plot_ate(const std::string& file, const AteResult& ate, const Trajectory&
     return write_png(file, image);
 }
 
+Status plot_object(const std::string& file, const ObjectTrajectoryResult& object,
+                   const Trajectory& gt, const Trajectory& est, const std::string& title) {
+    AteResult moved = object.ate;  // the poses below are already aligned
+    moved.gt_T_est = Eigen::Isometry3d::Identity();
+    return plot_ate(file, moved, gt, aligned_object_poses(object, est), title);
+}
+
 Status plot_rpe(const std::string& file, const RpeResult& rpe, const std::string& title) {
     const double t0 = rpe.pairs.empty() ? 0 : rpe.pairs.front().est_stamp_0_s;
     char delta[64];

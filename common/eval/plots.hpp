@@ -14,6 +14,10 @@ namespace df::eval {
 Status plot_ate(const std::string& file, const AteResult& ate, const Trajectory& gt,
                 const Trajectory& est, const std::string& title);
 
+/// plot_ate for an object: the estimate drawn as the result aligned it (W est X).
+Status plot_object(const std::string& file, const ObjectTrajectoryResult& object,
+                   const Trajectory& gt, const Trajectory& est, const std::string& title);
+
 /// Translational (m) and rotational (deg) relative error over time, one panel each.
 Status plot_rpe(const std::string& file, const RpeResult& rpe, const std::string& title);
 

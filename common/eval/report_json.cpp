@@ -12,8 +12,6 @@ json to_json(const ErrorStats& s) {
             {"std", s.stddev},  {"min", s.min},   {"max", s.max}};
 }
 
-namespace {
-
 json transform_json(const Eigen::Isometry3d& T) {
     const Eigen::Quaterniond q(T.linear());
     json matrix = json::array();
@@ -25,8 +23,6 @@ json transform_json(const Eigen::Isometry3d& T) {
             {"rotation_deg", Eigen::AngleAxisd(T.linear()).angle() * kDegPerRad},
             {"matrix", matrix}};
 }
-
-}  // namespace
 
 json to_json(const AteResult& ate) {
     json alignment = transform_json(ate.gt_T_est);
@@ -53,6 +49,9 @@ json to_json(const RpeResult& rpe) {
 
 json to_json(const ObjectTrajectoryResult& object) {
     json doc = {{"ate", to_json(object.ate)}, {"rotation_deg", to_json(object.rotation_deg)}};
+    if (object.ate.alignment == AlignmentKind::kWorldAndObjectFirstPose) {
+        doc["alignment_est_object_T_gt_object"] = transform_json(object.est_object_T_gt_object);
+    }
     if (object.rpe) {
         doc["rpe"] = to_json(*object.rpe);
     } else {
@@ -118,6 +117,96 @@ json to_json(const std::vector<TimingStats>& timing) {
                                 {"max_ms", t.max_ms}};
     }
     return doc;
+}
+
+namespace {
+
+std::string instance_name(const ObjectMapsResult& r, int gt_id) {
+    const GtInstance* inst = r.instance(gt_id);
+    return inst ? inst->name : "id " + std::to_string(gt_id);
+}
+
+json to_json(const ObjectMapsResult& r, const ObjectTrajectoryResult& t) {
+    json doc = {{"translation_m", to_json(t.ate.translation_m)},
+                {"rotation_deg", to_json(t.rotation_deg)},
+                {"pairs", t.ate.pairs.size()},
+                {"gt_poses", t.ate.gt_poses},
+                {"est_poses", t.ate.est_poses},
+                {"world_alignment", r.world_aligned ? "camera ATE" : "none"},
+                {"alignment_gt_T_est", transform_json(t.ate.gt_T_est)},
+                {"alignment_est_object_T_gt_object", transform_json(t.est_object_T_gt_object)}};
+    if (t.rpe) {
+        doc["rpe_1s"] = to_json(*t.rpe);
+    } else {
+        doc["rpe_error"] = t.rpe_error;
+    }
+    return doc;
+}
+
+}  // namespace
+
+json to_json(const ObjectMapsResult& r) {
+    json objects = json::object();
+    for (const ObjectMapScore& s : r.objects) {
+        json o = {{"gt_id", s.instance.id},
+                  {"class_id", s.instance.class_id},
+                  {"class_name", s.instance.class_name},
+                  {"estimated_id", s.masks.est_id},
+                  {"estimated_class_name", s.estimated.class_name},
+                  {"mask_iou", s.masks.iou},
+                  {"mask_overlap", s.masks.overlap},
+                  {"frames", s.masks.frames},
+                  {"intersection_px", s.masks.intersection_px},
+                  {"estimated_px", s.masks.est_px},
+                  {"gt_px", s.masks.gt_px}};
+        if (s.trajectory) {
+            o["trajectory"] = to_json(r, *s.trajectory);
+            o["trajectory"]["gt_file"] = s.gt_trajectory_file;
+            o["trajectory"]["est_file"] = s.est_trajectory_file;
+        }
+        if (s.model) {
+            o["model"] = to_json(*s.model);
+        } else if (!s.model_note.empty()) {
+            o["model_skipped"] = s.model_note;
+        }
+        objects[s.instance.name] = o;
+    }
+    json duplicated = json::array(), spurious = json::array(), spurious_why = json::array();
+    for (const ObjectPair& d : r.association.duplicates) {
+        duplicated.push_back({{"estimated_id", d.est_id},
+                              {"of", instance_name(r, d.gt_id)},
+                              {"mask_iou", d.iou},
+                              {"mask_overlap", d.overlap},
+                              {"frames", d.frames}});
+    }
+    for (const SpuriousObject& s : r.association.spurious) {
+        spurious.push_back(s.est_id);
+        spurious_why.push_back({{"estimated_id", s.est_id},
+                                {"pixels", s.est_px},
+                                {"best_gt", s.best_gt_id ? instance_name(r, s.best_gt_id) : ""},
+                                {"overlap", s.overlap},
+                                {"reason", s.reason}});
+    }
+    json missed = json::array(), brief = json::array();
+    for (int id : r.association.missed) missed.push_back(instance_name(r, id));
+    for (int id : r.association.not_expected) brief.push_back(instance_name(r, id));
+    const ObjectAssociationConfig& c = r.association.config;
+    json association = {{"method", "mask_overlap"},
+                        {"min_overlap", c.min_overlap},
+                        {"min_frames", c.min_frames},
+                        {"frames", r.association.frames},
+                        {"frames_without_masks", r.masks.frames_without_masks},
+                        {"masks_without_gt", r.masks.masks_without_gt},
+                        {"estimated_objects", r.estimated.size()},
+                        {"world_alignment", r.world_aligned ? "camera ATE" : "none"},
+                        {"spurious", spurious_why},
+                        {"rigid_seen_too_briefly", brief}};
+    return {{"objects", objects},
+            {"objects_duplicated", duplicated},
+            {"objects_spurious", spurious},
+            {"objects_missed", missed},
+            {"objects_not_estimated", missed},
+            {"object_association", association}};
 }
 
 Status write_json(const std::string& file, const json& doc) {

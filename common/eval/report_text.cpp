@@ -1,4 +1,5 @@
 // Results as readable terminal tables.
+#include <algorithm>
 #include <cstdarg>
 #include <cstdio>
 
@@ -31,12 +32,12 @@ std::string stats_row(const std::string& name, const ErrorStats& s, const char* 
                   decimals, s.max, unit);
 }
 
-std::string transform_line(const Eigen::Isometry3d& T) {
+std::string transform_line(const Eigen::Isometry3d& T, const char* name = "gt_T_est") {
     const Eigen::AngleAxisd aa(T.linear());
     const Eigen::Vector3d& t = T.translation();
-    return format(
-        "  gt_T_est: t = [%.4f, %.4f, %.4f] m, rotation %.3f deg about [%.3f, %.3f, %.3f]\n", t.x(),
-        t.y(), t.z(), aa.angle() * kDegPerRad, aa.axis().x(), aa.axis().y(), aa.axis().z());
+    return format("  %s: t = [%.4f, %.4f, %.4f] m, rotation %.3f deg about [%.3f, %.3f, %.3f]\n",
+                  name, t.x(), t.y(), t.z(), aa.angle() * kDegPerRad, aa.axis().x(), aa.axis().y(),
+                  aa.axis().z());
 }
 
 }  // namespace
@@ -67,6 +68,9 @@ std::string format_rpe(const RpeResult& rpe, const std::string& title) {
 
 std::string format_object(const ObjectTrajectoryResult& object, const std::string& title) {
     std::string s = format_ate(object.ate, title);
+    if (object.ate.alignment == AlignmentKind::kWorldAndObjectFirstPose) {
+        s += transform_line(object.est_object_T_gt_object, "est_object_T_gt_object");
+    }
     s += stats_row("rotation (aligned)", object.rotation_deg, "deg", 3);
     if (object.rpe) {
         s += format("  RPE over %g %s, %zu pairs:\n", object.rpe->config.delta,
@@ -117,6 +121,83 @@ std::string format_segmentation(const SegmentationResult& seg, const std::string
                     k.visible, k.matched, k.detection_recall, k.mean_iou, k.mean_precision,
                     k.mean_recall);
     }
+    return s;
+}
+
+namespace {
+
+const char* const kObjectColumns = "  %-16s %-10s %6s %9s %7s %10s %9s %10s %10s\n";
+
+/// One table line of a ground-truth instance and the object matched to it.
+std::string object_line(const ObjectMapScore& o) {
+    std::string t_rmse = "-", r_rmse = "-", acc = "-", compl_ = "-";
+    if (o.trajectory) {
+        t_rmse = format("%.2f", 100 * o.trajectory->ate.translation_m.rmse);
+        r_rmse = format("%.2f", o.trajectory->rotation_deg.rmse);
+    }
+    if (o.model) {
+        acc = format("%.4f", o.model->accuracy);
+        compl_ = format("%.4f", o.model->completeness);
+    }
+    return format("  %-16s %-10s %6d %9.4f %7zu %10s %9s %10s %10s\n", o.instance.name.c_str(),
+                  o.instance.class_name.c_str(), o.masks.est_id, o.masks.iou, o.masks.frames,
+                  t_rmse.c_str(), r_rmse.c_str(), acc.c_str(), compl_.c_str());
+}
+
+std::string name_of(const ObjectMapsResult& r, int gt_id) {
+    const GtInstance* inst = r.instance(gt_id);
+    return inst ? inst->name : "id " + std::to_string(gt_id);
+}
+
+/// "label: a, b" or "label: none".
+std::string list_line(const std::string& label, const std::vector<std::string>& items) {
+    std::string s = "  " + label + ":";
+    for (size_t i = 0; i < items.size(); ++i) s += (i ? ", " : " ") + items[i];
+    return s + (items.empty() ? " none\n" : "\n");
+}
+
+}  // namespace
+
+std::string format_object_maps(const ObjectMapsResult& r, const std::string& title) {
+    const ObjectAssociation& a = r.association;
+    std::string s = title + "\n";
+    s += format(
+        "  %zu estimated objects, associated by mask overlap over %zu frames (%zu without "
+        "object masks):\n  a match needs %.0f%% of an object's pixels on a rigid "
+        "instance; world alignment: %s\n",
+        r.estimated.size(), a.frames, r.masks.frames_without_masks, 100 * a.config.min_overlap,
+        r.world_aligned ? "camera ATE" : "none");
+    const std::string at = format("@%.1f cm", 100 * r.model_threshold_m);
+    s += format(kObjectColumns, "gt object", "class", "est id", "mask IoU", "frames", "traj RMSE",
+                "rot RMSE", "model acc", "complete");
+    s += format(kObjectColumns, "", "", "", "", "", "[cm]", "[deg]", at.c_str(), at.c_str());
+    for (const GtInstance& inst : r.masks.instances) {
+        const auto o =
+            std::find_if(r.objects.begin(), r.objects.end(),
+                         [&](const ObjectMapScore& x) { return x.instance.id == inst.id; });
+        if (o != r.objects.end()) {
+            s += object_line(*o);
+        } else if (inst.kind == InstanceKind::kRigid) {
+            const auto g = r.masks.overlap.ground_truth().find(inst.id);
+            const size_t frames = g == r.masks.overlap.ground_truth().end() ? 0 : g->second.frames;
+            s += format("  %-16s %-10s %6s   (no object; visible in %zu frames)\n",
+                        inst.name.c_str(), inst.class_name.c_str(), "-", frames);
+        }
+    }
+    std::vector<std::string> items;
+    for (const ObjectPair& d : a.duplicates) {
+        items.push_back(format("%d of %s (mask IoU %.3f, %zu frames)", d.est_id,
+                               name_of(r, d.gt_id).c_str(), d.iou, d.frames));
+    }
+    s += list_line("duplicated", items);
+    items.clear();
+    for (const SpuriousObject& sp : a.spurious) {
+        items.push_back(format("%d (%s)", sp.est_id, sp.reason.c_str()));
+    }
+    s += list_line("spurious", items);
+    items.clear();
+    for (int id : a.missed) items.push_back(name_of(r, id));
+    s += list_line("missed", items);
     return s;
 }
 

@@ -21,11 +21,18 @@ struct GtInstance {
     int class_id = -1;
     std::string class_name;
     InstanceKind kind = InstanceKind::kUnknown;
+    /// Relative to the sequence folder. model: "" when null (a person); both default to
+    /// models/<name>.ply and objects/<name>.txt when the entry does not say.
+    std::string model;
+    std::string trajectory;
 };
 
-/// Reads instances.json ({"instances": [{"id", "name", "class_id", "class_name", "kind"}...]}).
-/// Errors name the file and the entry that is wrong.
+/// Reads instances.json ({"instances": [{"id", "name", "class_id", "class_name", "kind", "model",
+/// "trajectory"}...]}). Errors name the file and the entry that is wrong.
 Result<std::vector<GtInstance>> read_instances_json(const std::string& file);
+
+/// A label image as stored (any depth, e.g. CV_16UC1). kIoError naming the file if unreadable.
+Result<cv::Mat> read_label_png(const std::string& file);
 
 struct SegmentationConfig {
     double match_iou = 0.5;  ///< a predicted segment matches an instance when IoU >= this

@@ -13,6 +13,26 @@ namespace df::eval {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+/// A path field of an instances.json entry: a string, null ("" = none) or absent (the default).
+Status read_path(const nlohmann::json& entry, const char* key, const std::string& fallback,
+                 const std::string& where, std::string* path) {
+    if (!entry.contains(key)) {
+        *path = fallback;
+    } else if (entry[key].is_null()) {
+        path->clear();
+    } else if (entry[key].is_string()) {
+        *path = entry[key].get<std::string>();
+    } else {
+        return error(StatusCode::kInvalidArgument,
+                     where + "\"" + key + "\" must be a path (string) or null");
+    }
+    return Status::ok();
+}
+
+}  // namespace
+
 Result<std::vector<GtInstance>> read_instances_json(const std::string& file) {
     std::ifstream in(file);
     if (!in) return error(StatusCode::kNotFound, file + ": cannot open instances file");
@@ -44,6 +64,10 @@ Result<std::vector<GtInstance>> read_instances_json(const std::string& file) {
         if (e.contains("class_id") && e["class_id"].is_number_integer()) {
             inst.class_id = e["class_id"].get<int>();
         }
+        DF_RETURN_IF_ERROR(
+            read_path(e, "model", "models/" + inst.name + ".ply", where, &inst.model));
+        DF_RETURN_IF_ERROR(
+            read_path(e, "trajectory", "objects/" + inst.name + ".txt", where, &inst.trajectory));
         const std::string kind = e.value("kind", std::string("unknown"));
         if (kind == "rigid") {
             inst.kind = InstanceKind::kRigid;
@@ -95,6 +119,8 @@ Result<std::vector<StampedFile>> list_stamped_pngs(const std::string& dir) {
     return files;
 }
 
+}  // namespace
+
 Result<cv::Mat> read_label_png(const std::string& file) {
     cv::Mat image;
     try {
@@ -105,8 +131,6 @@ Result<cv::Mat> read_label_png(const std::string& file) {
     if (image.empty()) return error(StatusCode::kIoError, file + ": cannot read image");
     return image;
 }
-
-}  // namespace
 
 Result<SegmentationResult> score_segmentation_folders(const std::string& gt_sequence_dir,
                                                       const std::string& pred_dir,

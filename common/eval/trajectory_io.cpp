@@ -127,7 +127,17 @@ Eigen::Isometry3d to_isometry(const io::StampedPose& pose) {
 }
 
 const char* to_string(AlignmentKind kind) {
-    return kind == AlignmentKind::kHornPositions ? "horn_positions" : "first_pose";
+    switch (kind) {
+        case AlignmentKind::kHornPositions:
+            return "horn_positions";
+        case AlignmentKind::kFirstPose:
+            return "first_pose";
+        case AlignmentKind::kGivenWorld:
+            return "given_world";
+        case AlignmentKind::kWorldAndObjectFirstPose:
+            return "world_and_object_first_pose";
+    }
+    return "first_pose";
 }
 const char* to_string(DeltaUnit unit) { return unit == DeltaUnit::kSeconds ? "s" : "f"; }
 const char* to_string(RpeForm form) { return form == RpeForm::kTumScript ? "tum" : "paper"; }

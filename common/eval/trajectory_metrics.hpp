@@ -70,6 +70,10 @@ Eigen::Isometry3d align_positions(const std::vector<Eigen::Vector3d>& gt_positio
 enum class AlignmentKind {
     kHornPositions,  ///< TUM ATE: least squares over all associated positions
     kFirstPose,      ///< Co-Fusion objects: gt_T_est = T_gt(first) T_est(first)^-1
+    kGivenWorld,     ///< objects: gt_T_est given (e.g. the camera ATE alignment), nothing solved
+    /// objects: gt_T_est given (or identity) and the object frame offset solved from the first
+    /// associated pair (see ObjectAlignment)
+    kWorldAndObjectFirstPose,
 };
 const char* to_string(AlignmentKind kind);
 
@@ -137,10 +141,24 @@ struct RpeResult {
 Result<RpeResult> compute_rpe(const Trajectory& gt, const Trajectory& est,
                               const RpeConfig& config = {});
 
+/// How an object's estimated poses are brought onto its ground truth: est'_i = W est_i X, with
+/// W = gt_T_est (ground-truth world from estimated world) and X = est_object_T_gt_object (the
+/// ground-truth object frame in the estimated object frame: a SLAM system picks its own origin
+/// and axes for an object's model).
+struct ObjectAlignment {
+    /// W, e.g. the camera ATE alignment. Absent: W = T_gt(0) T_est(0)^-1 from the first
+    /// associated pair (Co-Fusion), or the identity when `object_frame` is set.
+    std::optional<Eigen::Isometry3d> world_gt_T_est;
+    /// Also solve X from the first associated pair: X = (W T_est(0))^-1 T_gt(0), so that est'_0 =
+    /// gt_0. Otherwise X = identity.
+    bool object_frame = false;
+};
+
 struct ObjectTrajectoryResult {
-    AteResult ate;                 ///< alignment = kFirstPose
-    ErrorStats rotation_deg;       ///< angle of gt^-1 (gt_T_est est) per associated pair
-    std::optional<RpeResult> rpe;  ///< absent when too few pairs (see rpe_error)
+    AteResult ate;  ///< alignment: kFirstPose, kGivenWorld or kWorldAndObjectFirstPose; W
+    Eigen::Isometry3d est_object_T_gt_object = Eigen::Isometry3d::Identity();  ///< X
+    ErrorStats rotation_deg;       ///< angle of gt^-1 (W est X) per associated pair
+    std::optional<RpeResult> rpe;  ///< of W est X against gt; absent when too few pairs
     std::string rpe_error;
 };
 
@@ -150,6 +168,16 @@ struct ObjectTrajectoryResult {
 Result<ObjectTrajectoryResult> compute_object_errors(const Trajectory& gt, const Trajectory& est,
                                                      const AssociationConfig& association = {},
                                                      const RpeConfig& rpe = {});
+
+/// As above with the alignment spelled out: est'_i = W est_i X (see ObjectAlignment); position
+/// errors |t(est'_i) - t(gt_i)|, rotation errors angle(gt_i^-1 est'_i), RPE of est' against gt.
+Result<ObjectTrajectoryResult> compute_object_errors(const Trajectory& gt, const Trajectory& est,
+                                                     const ObjectAlignment& alignment,
+                                                     const AssociationConfig& association = {},
+                                                     const RpeConfig& rpe = {});
+
+/// Every estimated pose moved as the result aligned them: W est_i X (for figures).
+Trajectory aligned_object_poses(const ObjectTrajectoryResult& object, const Trajectory& est);
 
 /// world_T_x as a 4x4 isometry.
 Eigen::Isometry3d to_isometry(const io::StampedPose& pose);

@@ -14,9 +14,9 @@ using test::TempFolder;
 using test::write_file;
 
 std::vector<GtInstance> instances() {
-    return {{1, "car_1", 2, "car", InstanceKind::kRigid},
-            {2, "person_1", 0, "person", InstanceKind::kNonRigid},
-            {3, "thing_1", -1, "", InstanceKind::kUnknown}};
+    return {{1, "car_1", 2, "car", InstanceKind::kRigid, "", ""},
+            {2, "person_1", 0, "person", InstanceKind::kNonRigid, "", ""},
+            {3, "thing_1", -1, "", InstanceKind::kUnknown, "", ""}};
 }
 
 /// 10x10: instance 1 = rows 0-4 x cols 0-4 (25 px), 2 = rows 5-9 x cols 5-9 (25 px),
@@ -94,7 +94,7 @@ TEST(Segmentation, ScoresOverFramesPerInstanceAndKind) {
 }
 
 TEST(Segmentation, UnlistedGroundTruthIdAndWrongSizeAreErrors) {
-    SegmentationScorer scorer({{1, "car_1", 2, "car", InstanceKind::kRigid}}, {});
+    SegmentationScorer scorer({{1, "car_1", 2, "car", InstanceKind::kRigid, "", ""}}, {});
     const Status unlisted = scorer.add_frame(gt_frame(), pred_frame(), "instances/1.0.png");
     ASSERT_FALSE(unlisted);
     EXPECT_NE(unlisted.message().find("instances/1.0.png"), std::string::npos);
