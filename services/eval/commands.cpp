@@ -8,8 +8,8 @@
 #include "eval/plots.hpp"
 #include "eval/report.hpp"
 #include "eval/timing.hpp"
-#include "timing_recording.hpp"
 #include "io/ply/ply.hpp"
+#include "timing_recording.hpp"
 
 namespace df::eval_cli {
 
@@ -40,7 +40,8 @@ int finish(const Outputs& out, const json& doc) {
     return 0;
 }
 
-Result<Eigen::Isometry3d> parse_transform(const std::string& text) {
+/// "tx ty tz qx qy qz qw" (commas allowed); `flag` names the option in errors.
+Result<Eigen::Isometry3d> parse_transform(const std::string& text, const std::string& flag) {
     std::string spaced = text;
     for (char& c : spaced) c = c == ',' ? ' ' : c;
     std::istringstream in(spaced);
@@ -48,12 +49,12 @@ Result<Eigen::Isometry3d> parse_transform(const std::string& text) {
     for (double x; in >> x;) v.push_back(x);
     if (!in.eof() || v.size() != 7) {
         return error(StatusCode::kInvalidArgument,
-                     "--transform: expected 7 numbers 'tx ty tz qx qy qz qw', got '" + text + "'");
+                     flag + ": expected 7 numbers 'tx ty tz qx qy qz qw', got '" + text + "'");
     }
     io::StampedPose pose;
     pose.t = Eigen::Vector3d(v[0], v[1], v[2]);
     const Eigen::Quaterniond q(v[6], v[3], v[4], v[5]);
-    if (q.norm() < 1e-9) return error(StatusCode::kInvalidArgument, "--transform: zero quaternion");
+    if (q.norm() < 1e-9) return error(StatusCode::kInvalidArgument, flag + ": zero quaternion");
     pose.q = q.normalized();
     return eval::to_isometry(pose);
 }
@@ -96,12 +97,19 @@ int cmd_rpe(const std::string& gt_file, const std::string& est_file, const eval:
 
 int cmd_object(const std::string& gt_file, const std::string& est_file,
                const eval::AssociationConfig& association, const eval::RpeConfig& rpe,
-               const Outputs& out) {
+               const ObjectOptions& options, const Outputs& out) {
+    eval::ObjectAlignment alignment;
+    alignment.object_frame = options.body_align;
+    if (!options.world.empty()) {
+        auto world = parse_transform(options.world, "--world");
+        if (!world) return fail(world.status());
+        alignment.world_gt_T_est = *world;
+    }
     auto gt = load(gt_file);
     if (!gt) return fail(gt.status());
     auto est = load(est_file);
     if (!est) return fail(est.status());
-    auto object = eval::compute_object_errors(gt->poses, est->poses, association, rpe);
+    auto object = eval::compute_object_errors(gt->poses, est->poses, alignment, association, rpe);
     if (!object) {
         return fail(
             object.status().with_context("object trajectory " + est_file + " against " + gt_file));
@@ -109,8 +117,7 @@ int cmd_object(const std::string& gt_file, const std::string& est_file,
     std::fputs(eval::format_object(*object, "Object: " + est_file + " vs " + gt_file).c_str(),
                stdout);
     if (!out.plot_file.empty()) {
-        const Status s =
-            eval::plot_ate(out.plot_file, object->ate, gt->poses, est->poses, "object");
+        const Status s = eval::plot_object(out.plot_file, *object, gt->poses, est->poses, "object");
         if (!s) return fail(s);
         log::info("wrote ", out.plot_file);
     }
@@ -122,7 +129,7 @@ int cmd_recon(const std::string& gt_ply, const std::string& est_ply,
               const Outputs& out) {
     Eigen::Isometry3d gt_T_est = Eigen::Isometry3d::Identity();
     if (!transform.empty()) {
-        auto parsed = parse_transform(transform);
+        auto parsed = parse_transform(transform, "--transform");
         if (!parsed) return fail(parsed.status());
         gt_T_est = *parsed;
     }

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "eval/object_association.hpp"
 #include "eval/reconstruction.hpp"
 #include "eval/segmentation.hpp"
 #include "eval/trajectory_metrics.hpp"
@@ -19,9 +20,14 @@ int cmd_ate(const std::string& gt, const std::string& est, const eval::Associati
             const Outputs& out);
 int cmd_rpe(const std::string& gt, const std::string& est, const eval::RpeConfig& config,
             const Outputs& out);
+/// How `object` aligns the estimate (see eval::ObjectAlignment).
+struct ObjectOptions {
+    std::string world;        ///< empty, or "tx ty tz qx qy qz qw": gt_T_est of the worlds (W)
+    bool body_align = false;  ///< also solve the object frame offset X from the first pair
+};
 int cmd_object(const std::string& gt, const std::string& est,
                const eval::AssociationConfig& association, const eval::RpeConfig& rpe,
-               const Outputs& out);
+               const ObjectOptions& object, const Outputs& out);
 /// `transform`: empty, or "tx ty tz qx qy qz qw" (gt_T_est) applied to the estimate first.
 int cmd_recon(const std::string& gt_ply, const std::string& est_ply,
               const eval::ReconstructionConfig& config, const std::string& transform,
@@ -36,6 +42,9 @@ struct RunOptions {
     eval::SegmentationConfig segmentation;
     bool plots = true;
     bool align_map = true;  ///< move map.ply into the GT frame with the camera ATE alignment
+    /// Object maps (RUN_DIR/objects.json): association by masks and the models' threshold.
+    eval::ObjectAssociationConfig object_association;
+    eval::ReconstructionConfig object_model{0.01};
 };
 /// Scores whatever RUN_DIR holds against SEQ_DIR; writes RUN_DIR/eval.json and eval_*.png.
 int cmd_run(const std::string& sequence_dir, const std::string& run_dir, const RunOptions& options);

@@ -99,6 +99,13 @@ int main(int argc, char** argv) {
     object->add_option("EST", est, "estimated object trajectory")->required();
     add_association(object, &association);
     add_rpe(object, &rpe, &rpe_choices, false);
+    df::eval_cli::ObjectOptions object_options;
+    object->add_option("--world", object_options.world,
+                       "'tx ty tz qx qy qz qw': gt_T_est of the two worlds (e.g. the camera ATE "
+                       "alignment), used instead of aligning the first pose");
+    object->add_flag("--body-align", object_options.body_align,
+                     "also solve the constant offset of the estimated object frame from the first "
+                     "pose pair: est' = W est X (W: --world, or identity)");
     add_outputs(object, &out, true);
 
     df::eval::ReconstructionConfig recon_config;
@@ -136,13 +143,25 @@ int main(int argc, char** argv) {
     bool no_plots = false, no_align_map = false;
     auto* run = app.add_subcommand(
         "run",
-        "score RUN_DIR (trajectory.txt, objects/, map.ply, masks/, *.log) against SEQ_DIR; "
+        "score RUN_DIR (trajectory.txt, objects.json or objects/, map.ply, masks/, *.log) "
+        "against SEQ_DIR; "
         "writes RUN_DIR/eval.json and RUN_DIR/eval_*.png");
     run->add_option("SEQ_DIR", gt, "sequence folder with ground truth")->required();
     run->add_option("RUN_DIR", est, "run folder")->required();
     add_association(run, &run_options.association);
     run->add_option("--threshold", run_options.reconstruction.threshold_m,
                     "reconstruction threshold in metres")
+        ->capture_default_str();
+    run->add_option("--object-threshold", run_options.object_model.threshold_m,
+                    "object model threshold in metres (objects.json runs)")
+        ->capture_default_str()
+        ->check(finite_at_least(0, false));
+    run->add_option("--min-overlap", run_options.object_association.min_overlap,
+                    "an object matches an instance holding at least this fraction of its pixels")
+        ->capture_default_str()
+        ->check(finite_at_least(0, false));
+    run->add_option("--min-frames", run_options.object_association.min_frames,
+                    "a rigid instance without an object is missed when visible in this many frames")
         ->capture_default_str();
     run->add_option("--match-iou", run_options.segmentation.match_iou,
                     "segmentation match threshold")
@@ -157,7 +176,7 @@ int main(int argc, char** argv) {
     rpe_choices.apply(&rpe);
     if (ate->parsed()) return cmd_ate(gt, est, association, out);
     if (rpe_cmd->parsed()) return cmd_rpe(gt, est, rpe, out);
-    if (object->parsed()) return cmd_object(gt, est, association, rpe, out);
+    if (object->parsed()) return cmd_object(gt, est, association, rpe, object_options, out);
     if (recon->parsed()) return cmd_recon(gt, est, recon_config, transform, out);
     if (seg->parsed()) return cmd_seg(gt, est, seg_config, out);
     if (timing->parsed()) return cmd_timing(logs, out);

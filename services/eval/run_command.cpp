@@ -27,6 +27,10 @@ struct RunReport {
         errors.push_back(what + ": " + s.message());
         log::error(errors.back());
     }
+    void fail(const std::string& text) {
+        errors.push_back(text);
+        log::error(errors.back());
+    }
     void skip(const std::string& why) {
         skipped.push_back(why);
         log::info("skipped: ", why);
@@ -111,8 +115,43 @@ std::vector<fs::path> files_with_extension(const fs::path& dir, const std::strin
     return files;
 }
 
-void score_objects(const fs::path& seq, const fs::path& run, const RunOptions& options,
-                   RunReport* report) {
+/// Object maps (RUN_DIR/objects.json): objects associated with instances by mask overlap, each
+/// pair scored with both frames aligned (the worlds by the camera ATE alignment).
+void score_object_maps(const fs::path& seq, const fs::path& run, const RunOptions& options,
+                       const std::optional<Eigen::Isometry3d>& gt_T_est, RunReport* report) {
+    eval::ObjectMapsConfig config;
+    config.association = options.object_association;
+    config.stamps = options.association;
+    config.model = options.object_model;
+    if (!gt_T_est) {
+        log::warn("objects: no camera ATE alignment; world alignment: none (identity)");
+    }
+    auto result = eval::score_object_maps(seq.string(), run.string(), gt_T_est, config);
+    if (!result) return report->fail("objects", result.status());
+    for (const std::string& w : result->warnings) log::warn(w);
+    for (const std::string& e : result->errors) report->fail(e);
+    std::fputs(
+        eval::format_object_maps(*result, "Objects (" + (run / "objects.json").string() + ")")
+            .c_str(),
+        stdout);
+    const nlohmann::json keys = eval::to_json(*result);
+    for (const auto& [key, value] : keys.items()) report->doc[key] = value;
+    if (!options.plots) return;
+    for (const eval::ObjectMapScore& o : result->objects) {
+        if (!o.trajectory) continue;
+        const fs::path png = run / ("eval_object_" + o.instance.name + ".png");
+        plot(report,
+             eval::plot_object(
+                 png.string(), *o.trajectory, o.gt_poses, o.est_poses,
+                 o.instance.name + " (estimated " + std::to_string(o.masks.est_id) + ")"),
+             png);
+    }
+}
+
+/// Object trajectories named as the ground truth's (objects/<name>.txt), from runs before
+/// objects.json.
+void score_objects_by_name(const fs::path& seq, const fs::path& run, const RunOptions& options,
+                           RunReport* report) {
     const fs::path est_dir = run / "objects";
     if (!fs::is_directory(est_dir)) {
         report->skip("objects: no " + est_dir.string());
@@ -237,13 +276,18 @@ int cmd_run(const std::string& sequence_dir, const std::string& run_dir,
     report.doc["sequence"] = sequence_dir;
     report.doc["run"] = run_dir;
     const auto gt_T_est = score_camera(seq, run, options, &report);
-    score_objects(seq, run, options, &report);
+    if (file_exists(run / "objects.json")) {
+        score_object_maps(seq, run, options, gt_T_est, &report);
+    } else {
+        score_objects_by_name(seq, run, options, &report);
+    }
     score_map(seq, run, options, gt_T_est, &report);
     score_masks(seq, run, options, &report);
     score_timing(run, &report);
     if (report.errors.empty() && report.doc.size() == 2) {  // only "sequence" and "run"
         log::error(run_dir,
-                   ": nothing to score (no trajectory.txt, objects/, map.ply, masks/ or "
+                   ": nothing to score (no trajectory.txt, objects.json, objects/, map.ply, "
+                   "masks/ or "
                    "*.log); is it a run folder?");
         return 1;
     }
