@@ -207,19 +207,20 @@ Result<MaskFolderOverlap> accumulate_mask_folders(const std::string& sequence_di
     auto est_files = pngs_by_name(fs::path(run_dir) / "object_masks");
     if (!est_files) return est_files.status();
     for (const auto& [name, gt_file] : *gt_files) {
+        // The SLAM run writes a mask for every frame it processed (all zero when no object
+        // claimed a pixel): a frame without one was not processed (a run over part of the
+        // sequence) and is not scored.
+        const auto est_file = est_files->find(name);
+        if (est_file == est_files->end()) {
+            ++out.frames_without_masks;
+            continue;
+        }
         auto gt = read_label_png(gt_file);
         if (!gt) return gt.status();
-        cv::Mat est;
-        std::string frame = gt_file;
-        const auto est_file = est_files->find(name);
-        if (est_file != est_files->end()) {
-            auto read = read_label_png(est_file->second);
-            if (!read) return read.status();
-            est = *read;
-            frame = est_file->second + " (ground truth " + gt_file + ")";
-        } else {
-            ++out.frames_without_masks;
-        }
+        auto read = read_label_png(est_file->second);
+        if (!read) return read.status();
+        const cv::Mat est = *read;
+        const std::string frame = est_file->second + " (ground truth " + gt_file + ")";
         DF_RETURN_IF_ERROR(out.overlap.add_frame(est, *gt, frame));
         for (const auto& g : out.overlap.ground_truth()) {
             if (!known.count(g.first)) {

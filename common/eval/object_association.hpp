@@ -100,7 +100,7 @@ struct MaskFolderOverlap {
     MaskOverlap overlap;
     std::vector<GtInstance> instances;  ///< SEQ_DIR/instances.json
     size_t gt_frames = 0;               ///< instances/*.png: every one is a frame
-    size_t frames_without_masks = 0;    ///< no object_masks/ file: nothing claimed (format rule)
+    size_t frames_without_masks = 0;    ///< no object_masks/ file: not processed by the run, not scored
     size_t masks_without_gt = 0;        ///< object_masks/ files with no instances/ namesake
 };
 

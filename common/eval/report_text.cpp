@@ -162,8 +162,8 @@ std::string format_object_maps(const ObjectMapsResult& r, const std::string& tit
     const ObjectAssociation& a = r.association;
     std::string s = title + "\n";
     s += format(
-        "  %zu estimated objects, associated by mask overlap over %zu frames (%zu without "
-        "object masks):\n  a match needs %.0f%% of an object's pixels on a rigid "
+        "  %zu estimated objects, associated by mask overlap over %zu frames (%zu not processed "
+        "by the run):\n  a match needs %.0f%% of an object's pixels on a rigid "
         "instance; world alignment: %s\n",
         r.estimated.size(), a.frames, r.masks.frames_without_masks, 100 * a.config.min_overlap,
         r.world_aligned ? "camera ATE" : "none");

@@ -113,6 +113,44 @@ void SurfelMap::project_active(const Eigen::Isometry3f& camera_T_world, const io
     }
 }
 
+void SurfelMap::prepare_weights(int width, int height, const io::Intrinsics& intrinsics) {
+    const float half_diagonal_px =
+        0.5f * std::sqrt(static_cast<float>(width * width + height * height));
+    const float weight_scale = -1.f / (2.f * config_.confidence_sigma * config_.confidence_sigma *
+                                       half_diagonal_px * half_diagonal_px);
+    // exp(a (du^2 + dv^2)) = exp(a du^2) exp(a dv^2): width + height exponentials a frame.
+    weight_u_.resize(static_cast<size_t>(width));
+    weight_v_.resize(static_cast<size_t>(height));
+    for (int u = 0; u < width; ++u) {
+        const float du = static_cast<float>(u) - static_cast<float>(intrinsics.cx);
+        weight_u_[static_cast<size_t>(u)] = std::exp(du * du * weight_scale);
+    }
+    for (int v = 0; v < height; ++v) {
+        const float dv = static_cast<float>(v) - static_cast<float>(intrinsics.cy);
+        weight_v_[static_cast<size_t>(v)] = std::exp(dv * dv * weight_scale);
+    }
+}
+
+Result<FusionStats> SurfelMap::carve(const cv::Mat& vertex_map_cam, const cv::Mat& mask,
+                                     const Eigen::Isometry3f& world_T_camera,
+                                     const io::Intrinsics& intrinsics, int frame_index) {
+    DF_RETURN_IF_ERROR(check_image(vertex_map_cam, "vertex map", CV_32FC3, vertex_map_cam.size()));
+    if (!mask.empty()) DF_RETURN_IF_ERROR(check_image(mask, "mask", CV_8UC1, vertex_map_cam.size()));
+    if (!(intrinsics.fx > 0) || !(intrinsics.fy > 0)) {
+        return error(StatusCode::kInvalidArgument, "carve: focal lengths must be positive");
+    }
+    FusionStats stats;
+    if (config_.remove_free_space) {
+        prepare_weights(vertex_map_cam.cols, vertex_map_cam.rows, intrinsics);
+        remove_free_space(vertex_map_cam, mask, world_T_camera.inverse(), intrinsics, frame_index,
+                          surfels_.size(), stats);
+    }
+    stats.removed = clean(frame_index);
+    stats.total = surfels_.size();
+    stats.stable = stable_count();
+    return stats;
+}
+
 Result<FusionStats> SurfelMap::fuse(const cv::Mat& vertex_map_cam, const cv::Mat& normal_map_cam,
                                     const cv::Mat& rgb, const cv::Mat& mask,
                                     const cv::Mat& index_map,
@@ -130,21 +168,7 @@ Result<FusionStats> SurfelMap::fuse(const cv::Mat& vertex_map_cam, const cv::Mat
     const Eigen::Vector3f world_t_camera = world_T_camera.translation();
     const Eigen::Matrix3f camera_R_world = camera_T_world.linear();
     const Eigen::Vector3f camera_t_world = camera_T_world.translation();
-    const float half_diagonal_px =
-        0.5f * std::sqrt(static_cast<float>(width * width + height * height));
-    const float weight_scale = -1.f / (2.f * config_.confidence_sigma * config_.confidence_sigma *
-                                       half_diagonal_px * half_diagonal_px);
-    // exp(a (du^2 + dv^2)) = exp(a du^2) exp(a dv^2): width + height exponentials a frame.
-    weight_u_.resize(static_cast<size_t>(width));
-    weight_v_.resize(static_cast<size_t>(height));
-    for (int u = 0; u < width; ++u) {
-        const float du = static_cast<float>(u) - static_cast<float>(intrinsics.cx);
-        weight_u_[static_cast<size_t>(u)] = std::exp(du * du * weight_scale);
-    }
-    for (int v = 0; v < height; ++v) {
-        const float dv = static_cast<float>(v) - static_cast<float>(intrinsics.cy);
-        weight_v_[static_cast<size_t>(v)] = std::exp(dv * dv * weight_scale);
-    }
+    prepare_weights(width, height, intrinsics);
     const float radius_scale =
         std::sqrt(2.f) * 2.f / static_cast<float>(intrinsics.fx + intrinsics.fy);
     const float min_normal_dot = std::cos(config_.max_normal_angle_rad);

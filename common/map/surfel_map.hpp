@@ -172,6 +172,14 @@ class SurfelMap {
                              const Eigen::Isometry3f& world_T_camera,
                              const io::Intrinsics& intrinsics, int frame_index);
 
+    /// The free-space pass of fuse() alone, with no fusion: the active surfels the frame sees
+    /// through (SurfelMapConfig::remove_free_space) are weakened or removed, then clean(). For
+    /// a map none of the frame's pixels were fused into (an object map whose object moved
+    /// away). Inputs as fuse(); `mask` non-zero = the pixel proves nothing.
+    Result<FusionStats> carve(const cv::Mat& vertex_map_cam, const cv::Mat& mask,
+                              const Eigen::Isometry3f& world_T_camera,
+                              const io::Intrinsics& intrinsics, int frame_index);
+
     /// Removes unstable surfels not fused for more than config.unstable_max_unseen_frames
     /// (relative to frame_index); returns how many were removed. Keeps the order of the others.
     size_t clean(int frame_index);
@@ -221,6 +229,8 @@ class SurfelMap {
     Status write_ply(const std::string& file, bool stable_only = true) const;
 
   private:
+    /// The observation weight factors per column and row (weight_u_, weight_v_).
+    void prepare_weights(int width, int height, const io::Intrinsics& intrinsics);
     /// Fills zbuffer_index_ with, per pixel, the nearest active surfel projecting there (-1 if
     /// none).
     void project_active(const Eigen::Isometry3f& camera_T_world, const io::Intrinsics& k, int width,

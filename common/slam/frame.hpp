@@ -64,4 +64,12 @@ struct Frame {
 /// whatever the number of threads.
 Result<Frame> preprocess(const io::RgbdImage& image, const PreprocessConfig& config);
 
+/// The part of `frame` inside `roi` (level-0 pixels): every level cropped alike, its intrinsics
+/// shifted so a camera-frame point projects onto the same image content; the images are views
+/// into `frame`'s (no copy, valid while they are). `roi` is first grown outwards to multiples of
+/// 2^(levels-1) and clipped to the frame, so that every level crops whole pixels; the rectangle
+/// used is returned in `*used` (empty when roi does not meet the frame; then the frame returned
+/// has empty images). Lets a small object be tracked and fused at the cost of its own size.
+Frame crop(const Frame& frame, const cv::Rect& roi, cv::Rect* used);
+
 }  // namespace df::slam

@@ -99,4 +99,44 @@ Result<Frame> preprocess(const io::RgbdImage& image, const PreprocessConfig& con
     return frame;
 }
 
+Frame crop(const Frame& frame, const cv::Rect& roi, cv::Rect* used) {
+    Frame out;
+    out.sensor_ns = frame.sensor_ns;
+    out.index = frame.index;
+    *used = cv::Rect();
+    if (frame.levels.empty()) return out;
+    const int align = 1 << (static_cast<int>(frame.levels.size()) - 1);
+    const cv::Size size = frame.levels[0].depth_m.size();
+    // Outwards to the alignment, then inwards to the frame's last whole aligned block.
+    const int x0 = std::max(0, roi.x / align * align);
+    const int y0 = std::max(0, roi.y / align * align);
+    const int x1 = std::min(size.width / align * align, (roi.br().x + align - 1) / align * align);
+    const int y1 = std::min(size.height / align * align, (roi.br().y + align - 1) / align * align);
+    if (x1 <= x0 || y1 <= y0) {
+        out.levels.resize(frame.levels.size());
+        return out;
+    }
+    *used = cv::Rect(x0, y0, x1 - x0, y1 - y0);
+    for (size_t l = 0; l < frame.levels.size(); ++l) {
+        const FrameLevel& in = frame.levels[l];
+        const int s = 1 << l;
+        const cv::Rect r(x0 / s, y0 / s, (x1 - x0) / s, (y1 - y0) / s);
+        FrameLevel level;
+        level.intrinsics = in.intrinsics;
+        level.intrinsics.cx -= r.x;
+        level.intrinsics.cy -= r.y;
+        const auto view = [&r](const cv::Mat& m) { return m.empty() ? m : m(r); };
+        level.depth_m = view(in.depth_m);
+        level.smoothed_depth_m = view(in.smoothed_depth_m);
+        level.vertex = view(in.vertex);
+        level.smoothed_vertex = view(in.smoothed_vertex);
+        level.normal = view(in.normal);
+        level.intensity = view(in.intensity);
+        level.grad_x = view(in.grad_x);
+        level.grad_y = view(in.grad_y);
+        out.levels.push_back(std::move(level));
+    }
+    return out;
+}
+
 }  // namespace df::slam

@@ -59,6 +59,7 @@ std::vector<Parameter> parameters(SystemConfig* c) {
     DynamicsOptions& d = c->dynamics;
     dynamics::MotionSegmentationConfig& ms = d.motion;
     dynamics::InvalidMaskConfig& iv = d.invalid;
+    objects::ObjectMapsConfig& o = c->objects;
     return {
         {"preprocess.min_depth_m", "depth below this is invalid", &p.min_depth_m},
         {"preprocess.max_depth_m", "depth at or beyond this is invalid", &p.max_depth_m},
@@ -219,6 +220,47 @@ std::vector<Parameter> parameters(SystemConfig* c) {
          &d.memory.max_depth_difference_m},
         {"memory.max_depth_difference_per_m2", "... plus this times depth^2",
          &d.memory.max_depth_difference_per_m2},
+
+        {"objects.enabled", "rigid objects get maps of their own (false: invalid.rigid decides)",
+         &o.enabled},
+        {"objects.match_min_overlap",
+         "an instance matches a map whose rendering covers this fraction of its pixels",
+         &o.association.min_overlap},
+        {"objects.class_must_agree", "... and only a map of its class", &o.association.class_must_agree},
+        {"objects.any_class_overlap", "... or any class when this much of it is covered",
+         &o.association.any_class_overlap},
+        {"objects.depth_tolerance_m",
+         "a map claims its rendered pixels where the frame's depth agrees within this",
+         &o.association.depth_tolerance_m},
+        {"objects.depth_tolerance_per_m2", "... plus this times depth^2",
+         &o.association.depth_tolerance_per_m2},
+        {"objects.min_silhouette_fraction",
+         "a map the detector missed is seen when the frame agrees with this much of it",
+         &o.association.min_silhouette_fraction},
+        {"objects.background_tolerance_m",
+         "a pixel the static map explains within this is the background's, not an object's",
+         &o.association.background_tolerance_m},
+        {"objects.background_tolerance_per_m2", "... plus this times depth^2",
+         &o.association.background_tolerance_per_m2},
+        {"objects.min_create_pixels",
+         "an unmatched rigid instance this big (processing resolution) may create a map",
+         &o.min_create_pixels},
+        {"objects.create_after_frames", "... once seen on this many consecutive frames",
+         &o.create_after_frames},
+        {"objects.candidate_min_iou", "... each sighting's box overlapping the last this much (IoU)",
+         &o.candidate_min_iou},
+        {"objects.retire_after_frames", "a map that claims no pixel this long is retired",
+         &o.retire_after_frames},
+        {"objects.revive_max_distance_m",
+         "a new sighting this close to a retired map of its class revives it", &o.revive_max_distance_m},
+        {"objects.max_objects", "live object maps at most (creations past it are counted)",
+         &o.max_objects},
+        {"objects.min_inliers", "ICP inliers an object's tracking needs", &o.min_inliers},
+        {"objects.min_track_pixels", "an object is tracked only with this many pixels",
+         &o.min_track_pixels},
+        {"objects.max_surfels", "surfels per object map at most", &o.max_surfels},
+        {"objects.fuse_erode_px", "an instance's mask shrinks this much before it is fused",
+         &o.fuse_erode_px},
     };
 }
 

@@ -31,6 +31,9 @@ std::vector<std::pair<std::string, double>> StageTimes::steps() const {
             {"stage1", stage1_ms},
             {"motion", motion_ms},
             {"stage2", stage2_ms},
+            {"objects_predict", objects_predict_ms},
+            {"objects_track", objects_track_ms},
+            {"objects_map", objects_map_ms},
             {"prediction", prediction_ms},
             {"total", total_ms}};
 }
@@ -81,7 +84,10 @@ SystemState SlamSystem::state() const {
 }
 
 SlamSystem::SlamSystem(const SystemConfig& config, const Eigen::Isometry3d& initial)
-    : config_(config), static_(0, config.map), world_T_camera_(orthonormalized(initial)) {}
+    : config_(config),
+      static_(0, config.map),
+      objects_(config.objects, config.tracking, config.map, config.prediction),
+      world_T_camera_(orthonormalized(initial)) {}
 
 Result<FrameReport> SlamSystem::process(const io::RgbdImage& image,
                                         const dynamics::FrameSegments& segments) {
@@ -93,6 +99,8 @@ Result<FrameReport> SlamSystem::process(const io::RgbdImage& image,
     Input in;
     DF_RETURN_IF_ERROR(prepare(image, segments, where, &in, &report));
     recall_instances(&in);
+    const Eigen::Isometry3d guess = pose_guess();
+    DF_RETURN_IF_ERROR(predict_objects(guess, &in, &report).with_context(where));
     if (!started_) {
         report.first = true;
         report.tracking.state = TrackingState::kOk;
@@ -101,13 +109,16 @@ Result<FrameReport> SlamSystem::process(const io::RgbdImage& image,
         report.invalid = dynamics::combine(in.segments, in.instance_ids, cv::Mat(), cv::Mat(),
                                            config_.dynamics.invalid);
     } else {
-        DF_RETURN_IF_ERROR(track_static(in, &report).with_context(where));
+        DF_RETURN_IF_ERROR(track_static(in, guess, &report).with_context(where));
     }
     update_pose(image.sensor_ns, &report);
     store_instances(in);
     input_size_ = image.depth.size();
     if (report.tracking.state == TrackingState::kOk || config_.system.fuse_when_lost) {
         DF_RETURN_IF_ERROR(map_static(in, &report).with_context(where));
+    }
+    if (report.tracking.state == TrackingState::kOk) {
+        DF_RETURN_IF_ERROR(map_objects(&in, &report).with_context(where));
     }
     ++frames_;
     report.times.total_ms = ms_since(start);
@@ -205,17 +216,76 @@ void SlamSystem::store_instances(const Input& in) {
     memory_.store(in.rigid, in.frame.levels[0].depth_m, config_.dynamics.memory);
 }
 
-Status SlamSystem::track_static(const Input& in, FrameReport* report) {
+Eigen::Isometry3d SlamSystem::pose_guess() const {
+    if (config_.system.constant_velocity && !lost_ && started_) {
+        return orthonormalized(world_T_camera_ * last_motion_);
+    }
+    return world_T_camera_;
+}
+
+Status SlamSystem::predict_objects(const Eigen::Isometry3d& guess, Input* in,
+                                   FrameReport* report) {
+    if (!config_.objects.enabled || !config_.dynamics.use_segments) return Status::ok();
+    const auto t = std::chrono::steady_clock::now();
+    auto objects = objects_.predict_and_associate(in->frame, in->segments.objects, guess,
+                                                  map_time_, static_depth());
+    if (!objects) return objects.status();
+    in->objects = std::move(objects).value();
+    // What the object maps claim stays out of the static map, as rigid instances: one row per
+    // object for the pixels no instance of the frame left out already.
+    int next = 1;
+    for (const dynamics::InstanceInfo& row : in->segments.objects.instances)
+        next = std::max(next, row.id + 1);
+    for (const objects::ObjectReport& r : in->objects.reports) {
+        if (r.pixels == 0 || next > 65535) continue;
+        const cv::Mat claimed =
+            (in->objects.object_ids == static_cast<uint16_t>(r.id)) & (in->instance_ids == 0);
+        const int pixels = cv::countNonZero(claimed);
+        if (pixels == 0) continue;
+        dynamics::InstanceInfo row;
+        row.id = static_cast<uint16_t>(next++);
+        row.class_id = r.class_id;
+        row.score = 1.f;
+        row.kind = dynamics::ObjectKind::kRigid;
+        row.pixels = pixels;
+        in->segments.objects.instances.push_back(row);
+        in->instance_ids.setTo(row.id, claimed);
+        in->instances.setTo(255, claimed);
+    }
+    report->times.objects_predict_ms = ms_since(t);
+    return Status::ok();
+}
+
+cv::Mat SlamSystem::static_depth() const {
+    cv::Mat z;
+    if (!static_.model().vertex.empty()) cv::extractChannel(static_.model().vertex, z, 2);
+    return z;
+}
+
+Status SlamSystem::map_objects(Input* in, FrameReport* report) {
+    if (!config_.objects.enabled || !config_.dynamics.use_segments) return Status::ok();
+    auto t = std::chrono::steady_clock::now();
+    DF_RETURN_IF_ERROR(objects_.track(in->frame, in->segments.objects, world_T_camera_,
+                                      map_time_, &in->objects));
+    report->times.objects_track_ms = ms_since(t);
+    t = std::chrono::steady_clock::now();
+    DF_RETURN_IF_ERROR(objects_.map(in->frame, in->image.rgb, in->segments.objects,
+                                    world_T_camera_, map_time_, frames_, static_depth(),
+                                    &in->objects));
+    report->times.objects_map_ms = ms_since(t);
+    report->objects = in->objects.reports;
+    report->object_ids = in->objects.object_ids;
+    return Status::ok();
+}
+
+Status SlamSystem::track_static(const Input& in, const Eigen::Isometry3d& guess,
+                                FrameReport* report) {
     const DynamicsOptions& d = config_.dynamics;
     if (static_.model_stale()) {
         // Restored from a checkpoint: the model is the map seen from the restored pose.
         DF_RETURN_IF_ERROR(predict_model(in.frame, report));
     }
     auto t = std::chrono::steady_clock::now();
-    Eigen::Isometry3d guess = world_T_camera_;
-    if (config_.system.constant_velocity && !lost_) {
-        guess = orthonormalized(world_T_camera_ * last_motion_);
-    }
     const bool any_instances = cv::countNonZero(in.instances) > 0;
     const cv::Mat stage1_mask = any_instances ? in.instances : cv::Mat();
     Result<TrackingResult> stage1 = static_.track(in.frame, guess, stage1_mask, config_.tracking);

@@ -21,9 +21,10 @@
 #include "io/rgbd_image.hpp"
 #include "io/tum/trajectory.hpp"
 #include "map/surfel_map.hpp"
+#include "objects/object_maps.hpp"
 #include "slam/frame.hpp"
 #include "slam/tracker.hpp"
-#include "slam_system/map_instance.hpp"
+#include "slam/map_instance.hpp"
 #include "slam_system/system_config.hpp"
 
 namespace df::slam {
@@ -33,6 +34,8 @@ struct StageTimes {
     double preprocess_ms = 0, tracking_ms = 0, fusion_ms = 0, prediction_ms = 0, total_ms = 0;
     /// Parts of tracking_ms: stage 1, motion segmentation (residuals included), stage 2.
     double stage1_ms = 0, motion_ms = 0, stage2_ms = 0;
+    /// Object maps: rendering and association, tracking, and fusion / creation / retirement.
+    double objects_predict_ms = 0, objects_track_ms = 0, objects_map_ms = 0;
     /// ("preprocess", ms), ... in pipeline order, for timing log lines.
     std::vector<std::pair<std::string, double>> steps() const;
 };
@@ -57,6 +60,11 @@ struct FrameReport {
     Eigen::Isometry3d world_T_camera = Eigen::Isometry3d::Identity();  ///< as reported
     bool fused = false;
     map::FusionStats fusion;
+    /// What each object map did this frame: the live maps, then those created or revived.
+    std::vector<objects::ObjectReport> objects;
+    /// CV_16UC1 at the processing resolution: the object map id claiming each pixel, 0 none
+    /// (empty when object maps are off).
+    cv::Mat object_ids;
     StageTimes times;
 };
 
@@ -109,6 +117,8 @@ class SlamSystem {
     /// True when the last frame was lost.
     bool lost() const { return lost_; }
     const map::SurfelMap& static_map() const { return static_.map(); }
+    /// Every object map of the run (live and retired) and the run's object counters.
+    const objects::ObjectMaps& object_maps() const { return objects_; }
     const SystemConfig& config() const { return config_; }
     /// The current pose (the last tracked one).
     const Eigen::Isometry3d& world_T_camera() const { return world_T_camera_; }
@@ -130,6 +140,7 @@ class SlamSystem {
         cv::Mat instance_ids;  ///< CV_16UC1, the instances left out (instance_labels)
         cv::Mat instances;     ///< CV_8UC1, instance_ids as a mask (255 = left out)
         cv::Mat rigid;         ///< CV_8UC1, the rigid instances this frame's segments hold
+        objects::ObjectFrame objects;  ///< the object maps' pixels of this frame
     };
 
     explicit SlamSystem(const SystemConfig& config, const Eigen::Isometry3d& initial);
@@ -141,18 +152,28 @@ class SlamSystem {
     void recall_instances(Input* in);
     /// Stores this frame's rigid instances in the memory (forgets it when tracking is lost).
     void store_instances(const Input& in);
+    /// The initial guess of this frame's pose (constant velocity when configured).
+    Eigen::Isometry3d pose_guess() const;
+    /// Renders the object maps at `guess`, associates them with the frame's instances and
+    /// leaves the pixels they claim out of the static map (as rigid instances).
+    Status predict_objects(const Eigen::Isometry3d& guess, Input* in, FrameReport* report);
     /// Stage 1, motion segmentation, stage 2; fills report->tracking and report->invalid.
-    Status track_static(const Input& in, FrameReport* report);
+    Status track_static(const Input& in, const Eigen::Isometry3d& guess, FrameReport* report);
     /// Moves the camera to the tracked pose (or counts the frame lost) and logs it.
     void update_pose(int64_t sensor_ns, FrameReport* report);
     /// Fuses the frame's valid pixels into the static map and predicts the next model.
     Status map_static(const Input& in, FrameReport* report);
+    /// The static model's depth (CV_32F metres, 0 none; empty before the first model).
+    cv::Mat static_depth() const;
+    /// Tracks, fuses, creates and retires the object maps (the camera's pose is known).
+    Status map_objects(Input* in, FrameReport* report);
     /// The model the next frame is tracked against: the map predicted at world_T_camera_
     /// (confident surfels only once bootstrapped).
     Status predict_model(const Frame& frame, FrameReport* report);
 
     SystemConfig config_;
     MapInstance static_;
+    objects::ObjectMaps objects_;
     Eigen::Isometry3d world_T_camera_;
     Eigen::Isometry3d last_motion_ = Eigen::Isometry3d::Identity();  ///< previous_T_current
     cv::Mat previous_motion_;  ///< the last frame's motion mask (carried forward)

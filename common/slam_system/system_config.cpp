@@ -36,6 +36,7 @@ std::string validate(const SystemConfig& config) {
     if (std::string e = dynamics::validate(d.motion); !e.empty()) return "motion." + e;
     if (std::string e = dynamics::validate(d.invalid); !e.empty()) return "invalid." + e;
     if (std::string e = dynamics::validate(d.memory); !e.empty()) return "memory." + e;
+    if (std::string e = objects::validate(config.objects); !e.empty()) return e;
     if (config.map.association_window_px < 0 || config.map.association_window_px > 4) {
         return "map.association_window_px must be 0..4, got " +
                std::to_string(config.map.association_window_px);

@@ -11,6 +11,7 @@
 #include "dynamics/invalid_mask.hpp"
 #include "dynamics/motion_segmentation.hpp"
 #include "map/surfel_map.hpp"
+#include "objects/object_maps.hpp"
 #include "slam/slam_config.hpp"
 #include "slam/tracker.hpp"
 
@@ -77,6 +78,9 @@ struct SystemConfig {
     map::PredictionConfig prediction;
     SystemOptions system;
     DynamicsOptions dynamics;
+    /// Object maps for rigid objects (objects/object_maps.hpp); their tracking and surfels use
+    /// `tracking` and `map` with the few thresholds of their own listed there.
+    objects::ObjectMapsConfig objects;
 };
 
 /// Empty string when usable, else a message naming the bad field and its value.

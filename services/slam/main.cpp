@@ -94,7 +94,7 @@ int main(int argc, char** argv) {
                      "(motion segmentation alone)")
         ->check(CLI::IsMember({"yolov5", "simulated", "none"}));
     offline->add_option("--write-masks", options.write_masks,
-                        "write invalid/, motion/ and objects/ label PNGs per frame (default true)");
+                        "write invalid/, motion/, segments/ and object_masks/ label PNGs per frame (default true)");
     offline->add_flag("--overlay", options.overlay,
                       "also write overlay/<stamp>.png: the colour image with what was left out "
                       "tinted, boxes and class names drawn");

@@ -37,7 +37,44 @@ cv::Scalar tint_of(dynamics::ObjectKind kind) {
     return {255, 255, 255};
 }
 
-cv::Mat overlay(const io::RgbdImage& image, const dynamics::LabelImage& invalid, float scale) {
+std::string class_name(int class_id) {
+    const auto& names = detect::coco_names();
+    return class_id >= 0 && class_id < static_cast<int>(names.size())
+               ? names[static_cast<size_t>(class_id)]
+               : std::string("object");
+}
+
+/// A colour of its own per object id (golden-angle hues), R,G,B.
+cv::Vec3b object_colour(int id) {
+    cv::Mat hsv(1, 1, CV_8UC3, cv::Scalar((id * 137) % 180, 230, 255)), rgb;
+    cv::cvtColor(hsv, rgb, cv::COLOR_HSV2RGB);
+    return rgb.at<cv::Vec3b>(0, 0);
+}
+
+/// Object map pixels tinted with the object's colour, its id and class at its centre.
+void draw_objects(const cv::Mat& object_ids, const std::vector<objects::ObjectReport>& reports,
+                  cv::Mat* rgb) {
+    if (object_ids.empty()) return;
+    const cv::Mat ids = upscale(object_ids, rgb->size());
+    for (const objects::ObjectReport& r : reports) {
+        const cv::Mat mine = ids == static_cast<uint16_t>(r.id);
+        if (cv::countNonZero(mine) == 0) continue;
+        const cv::Vec3b c = object_colour(r.id);
+        cv::Mat tint(rgb->size(), CV_8UC3, cv::Scalar(c[0], c[1], c[2]));
+        cv::Mat blended;
+        cv::addWeighted(*rgb, 0.4, tint, 0.6, 0, blended);
+        blended.copyTo(*rgb, mine);
+        const cv::Rect box = cv::boundingRect(mine);
+        cv::rectangle(*rgb, box, cv::Scalar(c[0], c[1], c[2]), 2);
+        const std::string text = "#" + std::to_string(r.id) + " " + class_name(r.class_id) +
+                                 (r.tracked ? "" : " (not tracked)");
+        cv::putText(*rgb, text, box.tl() + cv::Point(2, -4), cv::FONT_HERSHEY_SIMPLEX, 0.45,
+                    cv::Scalar(c[0], c[1], c[2]), 1, cv::LINE_AA);
+    }
+}
+
+cv::Mat overlay(const io::RgbdImage& image, const dynamics::LabelImage& invalid, float scale,
+                const slam::FrameReport& report) {
     cv::Mat rgb = image.rgb.clone();  // R,G,B
     cv::Mat labels = upscale(invalid.labels, rgb.size());
     std::vector<cv::Vec3b> colour(65536, cv::Vec3b(0, 0, 0));
@@ -60,14 +97,14 @@ cv::Mat overlay(const io::RgbdImage& image, const dynamics::LabelImage& invalid,
         const cv::Rect box(cv::Point(int(i.box.x * scale), int(i.box.y * scale)),
                            cv::Size(int(i.box.width * scale), int(i.box.height * scale)));
         cv::rectangle(rgb, box, tint_of(i.kind), 2);
-        std::string name = i.kind == dynamics::ObjectKind::kUnknown
-                               ? "unknown mover"
-                               : (i.class_id >= 0 ? (i.class_id < int(detect::coco_names().size()) ? detect::coco_names()[size_t(i.class_id)] : std::string("object")) : "object");
+        std::string name =
+            i.kind == dynamics::ObjectKind::kUnknown ? "unknown mover" : class_name(i.class_id);
         if (i.kind != dynamics::ObjectKind::kUnknown && i.score < 1.f)
             name += " " + std::to_string(int(i.score * 100 + 0.5f)) + "%";
         cv::putText(rgb, name, box.tl() + cv::Point(2, 14), cv::FONT_HERSHEY_SIMPLEX, 0.45,
                     tint_of(i.kind), 1, cv::LINE_AA);
     }
+    draw_objects(report.object_ids, report.objects, &rgb);
     cv::Mat bgr;
     cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
     return bgr;
@@ -77,7 +114,7 @@ cv::Mat overlay(const io::RgbdImage& image, const dynamics::LabelImage& invalid,
 
 Result<MaskOutputs> MaskOutputs::open(const std::string& dir, bool with_overlay) {
     std::error_code ec;
-    for (const char* sub : {"invalid", "motion", "objects", "overlay"}) {
+    for (const char* sub : {"invalid", "motion", "segments", "object_masks", "overlay"}) {
         if (std::string(sub) == "overlay" && !with_overlay) continue;
         std::filesystem::create_directories(dir + "/" + sub, ec);
         if (ec) {
@@ -102,10 +139,12 @@ Status MaskOutputs::write(const io::RgbdImage& image, const dynamics::FrameSegme
     }
     DF_RETURN_IF_ERROR(write_png(dir_ + "/motion/" + name + ".png", motion));
     DF_RETURN_IF_ERROR(
-        write_png(dir_ + "/objects/" + name + ".png", upscale(segments.objects.labels, size)));
+        write_png(dir_ + "/segments/" + name + ".png", upscale(segments.objects.labels, size)));
+    DF_RETURN_IF_ERROR(
+        write_png(dir_ + "/object_masks/" + name + ".png", upscale(report.object_ids, size)));
     if (overlay_) {
         DF_RETURN_IF_ERROR(write_png(dir_ + "/overlay/" + name + ".png",
-                                     overlay(image, report.invalid.labels, float(factor))));
+                                     overlay(image, report.invalid.labels, float(factor), report)));
     }
     return Status::ok();
 }

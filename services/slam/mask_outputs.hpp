@@ -2,14 +2,16 @@
 /// The per-frame masks a SLAM run writes, named by the frame's stamp (io::stamp_text), all at the
 /// input image's resolution, 16-bit label PNGs that `df_eval seg` reads (docs/dynamics.md):
 ///   <dir>/invalid/<stamp>.png  what was left out of the static map's tracking: the instance ids
-///                              of objects/ where an instance was left out, then one id per
+///                              of segments/ where an instance was left out, then one id per
 ///                              motion region
 ///   <dir>/motion/<stamp>.png   the motion segments of unknown movers, one id per region
-///   <dir>/objects/<stamp>.png  the object instances the frame came with (detections fused with
+///   <dir>/segments/<stamp>.png the object instances the frame came with (detections fused with
 ///                              geometric segments, or the given masks)
+///   <dir>/object_masks/<stamp>.png  the object map id that claimed each pixel (0 none)
 ///   <dir>/overlay/<stamp>.png  (overlay on) the colour image with what was left out tinted by
 ///                              kind (person red, rigid blue, unknown mover yellow), boxes and
-///                              class names drawn
+///                              class names drawn; object maps' pixels in a colour per object
+///                              with "#id class"
 #include <string>
 
 #include "core/status.hpp"

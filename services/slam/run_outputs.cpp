@@ -6,10 +6,19 @@
 #include <fstream>
 #include <sstream>
 
+#include "detect/detector.hpp"
 #include "eval/stats.hpp"
 #include "eval/timing.hpp"
+#include "objects/object_io.hpp"
 
 namespace df::slam_service {
+
+std::string class_name(int class_id) {
+    const auto& names = detect::coco_names();
+    return class_id >= 0 && class_id < static_cast<int>(names.size())
+               ? names[static_cast<size_t>(class_id)]
+               : "class " + std::to_string(class_id);
+}
 
 StageFigures figures(const std::vector<double>& values_ms) {
     if (values_ms.empty()) return {};
@@ -79,6 +88,7 @@ void RunOutputs::add(uint64_t seq, const slam::FrameReport& report) {
         if (frames_ % 10 == 0) map_growth_.push_back({frames_, report.fusion.total});
     }
     total_ms_.push_back(t.total_ms);
+    objects_ms_.push_back(t.objects_predict_ms + t.objects_track_ms + t.objects_map_ms);
     ++frames_;
 }
 
@@ -87,6 +97,10 @@ Status RunOutputs::finish(const slam::SlamSystem& system, bool stable_only, doub
     Status first = system.write_trajectory(trajectory_file());
     Status map = system.write_map(map_file(), stable_only);
     if (first.is_ok()) first = map;
+    if (!system.object_maps().objects().empty()) {
+        Status objects = objects::write_objects(dir_, system.object_maps(), class_name, stable_only);
+        if (first.is_ok()) first = objects;
+    }
 
     const map::SurfelMap& m = system.static_map();
     std::ostringstream j;
@@ -101,6 +115,7 @@ Status RunOutputs::finish(const slam::SlamSystem& system, bool stable_only, doub
         {"stage1", &stage1_ms_},
         {"motion", &motion_ms_},
         {"stage2", &stage2_ms_},
+        {"objects", &objects_ms_},
         {"fusion", &fusion_ms_},
         {"prediction", &prediction_ms_},
         {"total", &total_ms_}};
@@ -125,6 +140,7 @@ Status RunOutputs::finish(const slam::SlamSystem& system, bool stable_only, doub
     j << ",\n  \"surfels\": " << m.size() << ",\n  \"stable_surfels\": " << m.stable_count()
       << ",\n  \"map_bytes\": " << m.size() * sizeof(map::Surfel)
       << ",\n  \"surfels_rejected_by_capacity\": " << m.total_rejected_by_capacity()
+      << ",\n  \"objects\": " << system.object_maps().objects().size()
       << ",\n  \"map_growth\": [";
     for (size_t i = 0; i < map_growth_.size(); ++i) {
         j << (i ? ", " : "") << "[" << map_growth_[i].frame << ", " << map_growth_[i].surfels

@@ -7,6 +7,8 @@
 ///                         confidence)
 ///   <dir>/timings.log     one "timing seq=N stage=slam preprocess=.. tracking=.. ..." per frame
 ///   <dir>/summary.json    frames, lost frames, fps, per-stage median/p95, map size and memory
+///   <dir>/objects.json, objects/<id>.txt, objects/<id>.ply  the object maps
+///                         (objects/object_io.hpp), when the run made any
 #include <cstdint>
 #include <cstdio>
 #include <memory>
@@ -49,6 +51,7 @@ class RunOutputs {
     std::shared_ptr<std::FILE> trajectory_;  // O_APPEND: lines land after finish()'s rewrite
     std::vector<double> preprocess_ms_, tracking_ms_, fusion_ms_, prediction_ms_, total_ms_;
     std::vector<double> stage1_ms_, motion_ms_, stage2_ms_;  ///< parts of tracking_ms_
+    std::vector<double> objects_ms_;  ///< object maps: prediction, tracking, mapping
     std::vector<double> motion_fraction_;  ///< per frame: flagged / looked-at pixels
     struct MapSample {
         uint64_t frame;
@@ -63,5 +66,8 @@ struct StageFigures {
     double median_ms = 0, p95_ms = 0;
 };
 StageFigures figures(const std::vector<double>& values_ms);
+
+/// The COCO name of a class id ("class 91" outside the table).
+std::string class_name(int class_id);
 
 }  // namespace df::slam_service

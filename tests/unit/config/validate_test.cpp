@@ -173,8 +173,8 @@ TEST(Validate, SlamLibraryDefaultsSatisfyTheRangesOfSlamProto) {
     // Every parameter of the table made it into the message.
     std::vector<const FieldDescriptor*> sections;
     params.GetReflection()->ListFields(params, &sections);
-    // preprocess tracking map prediction system dynamics motion invalid memory
-    EXPECT_EQ(sections.size(), 9u);
+    // preprocess tracking map prediction system dynamics motion invalid memory objects
+    EXPECT_EQ(sections.size(), 10u);
     const Status s = check_fields(params, "slam.");
     EXPECT_TRUE(s) << s.message();
     EXPECT_NE(slam::params_table(slam::SystemConfig{})

@@ -5,7 +5,8 @@
 /// one pixel a frame; suitcase_1 (rigid, id 2) and person_1 (non-rigid, id 3) in every frame.
 /// The run numbers its objects itself: 7 claims the car's pixels in frames 0..6, 9 in frames
 /// 7..9 (a duplicate), 11 a patch of background (spurious), 13 the person (spurious: not rigid);
-/// the suitcase has no object (missed). Frames 10 and 11 have no object_masks file.
+/// the suitcase has no object (missed). Frames 10 and 11 have no object_masks file (the run did
+/// not process them: not scored).
 /// The run's world is W^-1 of the ground truth's and its car frame X^-1 of the car's: object 7's
 /// poses are W^-1 gt_i X^-1 and its model X p for every ground-truth model point p.
 #include <opencv2/core.hpp>

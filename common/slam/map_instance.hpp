@@ -61,6 +61,11 @@ class MapInstance {
                                   bool associate_by_prediction,
                                   const map::PredictionConfig& prediction);
 
+    /// The free-space pass alone (map::SurfelMap::carve) with the camera at map_T_camera: the
+    /// surfels the frame's level-0 vertices see through are weakened or removed.
+    Result<map::FusionStats> carve(const Frame& frame, const cv::Mat& mask,
+                                   const Eigen::Isometry3d& map_T_camera, int map_time);
+
   private:
     int id_;
     map::SurfelMap map_;

@@ -1,4 +1,4 @@
-#include "slam_system/map_instance.hpp"
+#include "slam/map_instance.hpp"
 
 namespace df::slam {
 
@@ -49,6 +49,12 @@ Result<map::FusionStats> MapInstance::fuse(const Frame& frame, const cv::Mat& rg
     const FrameLevel& level = frame.levels[0];
     return map_.fuse(level.vertex, level.normal, rgb, mask, association, map_T_camera.cast<float>(),
                      level.intrinsics, map_time);
+}
+
+Result<map::FusionStats> MapInstance::carve(const Frame& frame, const cv::Mat& mask,
+                                            const Eigen::Isometry3d& map_T_camera, int map_time) {
+    const FrameLevel& level = frame.levels[0];
+    return map_.carve(level.vertex, mask, map_T_camera.cast<float>(), level.intrinsics, map_time);
 }
 
 }  // namespace df::slam

@@ -1,0 +1,168 @@
+#include "objects/association.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <tuple>
+
+namespace df::objects {
+
+std::string validate(const AssociationConfig& c) {
+    if (!(c.min_overlap > 0.f && c.min_overlap <= 1.f))
+        return "objects.match_min_overlap must be in (0, 1], got " + std::to_string(c.min_overlap);
+    if (!(c.depth_tolerance_m >= 0.f && c.depth_tolerance_m <= 1.f))
+        return "objects.depth_tolerance_m must be in [0, 1], got " +
+               std::to_string(c.depth_tolerance_m);
+    if (!(c.depth_tolerance_per_m2 >= 0.f && c.depth_tolerance_per_m2 <= 1.f))
+        return "objects.depth_tolerance_per_m2 must be in [0, 1], got " +
+               std::to_string(c.depth_tolerance_per_m2);
+    if (!(c.any_class_overlap >= 0.f && c.any_class_overlap <= 1.f))
+        return "objects.any_class_overlap must be in [0, 1]";
+    if (!(c.min_silhouette_fraction >= 0.f && c.min_silhouette_fraction <= 1.f))
+        return "objects.min_silhouette_fraction must be in [0, 1]";
+    if (!(c.background_tolerance_m >= 0.f && c.background_tolerance_m <= 1.f) ||
+        !(c.background_tolerance_per_m2 >= 0.f && c.background_tolerance_per_m2 <= 1.f))
+        return "objects.background_tolerance_m and _per_m2 must be in [0, 1]";
+    return "";
+}
+
+float box_iou(const cv::Rect2f& a, const cv::Rect2f& b) {
+    if (a.area() <= 0.f || b.area() <= 0.f) return 0.f;
+    const float inter = (a & b).area();
+    return inter / (a.area() + b.area() - inter);
+}
+
+Association associate(const dynamics::LabelImage& instances, const std::vector<ObjectView>& views,
+                      const cv::Mat& depth_m, const AssociationConfig& config,
+                      const cv::Mat& background_depth_m) {
+    const bool background =
+        !background_depth_m.empty() && background_depth_m.size() == depth_m.size();
+    const cv::Size size = depth_m.size();
+    const int n = static_cast<int>(views.size());
+    Association out;
+    out.instance_of_view.assign(static_cast<size_t>(n), 0);
+    out.pixels_of_view.assign(static_cast<size_t>(n), 0);
+    out.silhouette_pixels_of_view.assign(static_cast<size_t>(n), 0);
+    out.view_labels = cv::Mat::zeros(size, CV_16UC1);
+
+    // The nearest rendered surface per pixel: which view's silhouette it is (index + 1).
+    cv::Mat nearest = cv::Mat::zeros(size, CV_16UC1);
+    cv::Mat nearest_z(size, CV_32F, cv::Scalar(0.f));
+    for (int k = 0; k < n; ++k) {
+        const cv::Mat& z = views[static_cast<size_t>(k)].depth_m;
+        if (z.empty() || z.size() != size) continue;
+        for (int v = 0; v < size.height; ++v) {
+            const float* zr = z.ptr<float>(v);
+            float* nz = nearest_z.ptr<float>(v);
+            uint16_t* nl = nearest.ptr<uint16_t>(v);
+            for (int u = 0; u < size.width; ++u) {
+                if (zr[u] > 0.f && (nz[u] == 0.f || zr[u] < nz[u])) {
+                    nz[u] = zr[u];
+                    nl[u] = static_cast<uint16_t>(k + 1);
+                }
+            }
+        }
+    }
+
+    // Per (instance, view): pixels of the instance inside the view's silhouette.
+    const bool have_labels = !instances.labels.empty() && instances.labels.size() == size;
+    std::map<uint16_t, int> instance_pixels;
+    std::map<std::pair<uint16_t, int>, int> overlap;
+    std::map<uint16_t, bool> claimable;  // id -> may a silhouette take its pixels
+    for (const dynamics::InstanceInfo& row : instances.instances)
+        claimable[row.id] = row.kind == dynamics::ObjectKind::kRigid;
+    if (have_labels) {
+        for (int v = 0; v < size.height; ++v) {
+            const uint16_t* l = instances.labels.ptr<uint16_t>(v);
+            const uint16_t* s = nearest.ptr<uint16_t>(v);
+            for (int u = 0; u < size.width; ++u) {
+                if (l[u] == 0) continue;
+                ++instance_pixels[l[u]];
+                if (s[u] != 0) ++overlap[{l[u], s[u] - 1}];
+            }
+        }
+    }
+    // Greedy by decreasing overlap fraction.
+    std::vector<std::tuple<float, uint16_t, int>> pairs;
+    for (const auto& [key, count] : overlap) {
+        const dynamics::InstanceInfo* row = instances.find(key.first);
+        if (row == nullptr || row->kind != dynamics::ObjectKind::kRigid) continue;
+        const ObjectView& view = views[static_cast<size_t>(key.second)];
+        const float fraction =
+            static_cast<float>(count) / static_cast<float>(std::max(1, instance_pixels[key.first]));
+        if (config.class_must_agree && row->class_id != view.class_id &&
+            (fraction < config.any_class_overlap || config.any_class_overlap >= 1.f))
+            continue;
+        if (fraction >= config.min_overlap) pairs.emplace_back(fraction, key.first, key.second);
+    }
+    std::sort(pairs.begin(), pairs.end(),
+              [](const auto& a, const auto& b) { return std::get<0>(a) > std::get<0>(b); });
+    std::map<uint16_t, int> view_of_instance;
+    for (const auto& [fraction, id, k] : pairs) {
+        if (view_of_instance.count(id) || out.instance_of_view[static_cast<size_t>(k)] != 0)
+            continue;
+        view_of_instance[id] = k;
+        out.instance_of_view[static_cast<size_t>(k)] = id;
+    }
+    std::map<uint16_t, int> claimed;  // unmatched rigid id -> pixels a silhouette took
+    std::vector<int> rendered(static_cast<size_t>(n), 0);  // silhouette pixels with a depth
+
+    // Claimed pixels: a matched instance's go to its view; an unclaimed silhouette pixel goes to
+    // the nearest view when the frame's depth agrees with the rendered one.
+    for (int v = 0; v < size.height; ++v) {
+        const uint16_t* l = have_labels ? instances.labels.ptr<uint16_t>(v) : nullptr;
+        const uint16_t* s = nearest.ptr<uint16_t>(v);
+        const float* nz = nearest_z.ptr<float>(v);
+        const float* d = depth_m.ptr<float>(v);
+        const float* b = background ? background_depth_m.ptr<float>(v) : nullptr;
+        uint16_t* out_l = out.view_labels.ptr<uint16_t>(v);
+        for (int u = 0; u < size.width; ++u) {
+            const uint16_t id = l ? l[u] : 0;
+            if (id != 0) {
+                auto it = view_of_instance.find(id);
+                if (it != view_of_instance.end()) {
+                    out_l[u] = static_cast<uint16_t>(it->second + 1);
+                    ++out.pixels_of_view[static_cast<size_t>(it->second)];
+                    continue;
+                }
+                if (!claimable[id]) continue;  // a person or unknown mover keeps its pixels
+            }
+            if (s[u] == 0 || !(d[u] > 0.f)) continue;
+            if (!config.silhouette_when_matched && out.instance_of_view[s[u] - 1] != 0) continue;
+            ++rendered[s[u] - 1];
+            if (!agrees_with_object(d[u], nz[u], config)) continue;
+            if (b != nullptr && agrees_with_background(d[u], b[u], config)) continue;
+            // An unmatched rigid instance here of another class: the silhouette still wins
+            // (the detector's other guess of the same surface).
+            out_l[u] = s[u];
+            if (id != 0) ++claimed[id];
+            ++out.pixels_of_view[s[u] - 1];
+            ++out.silhouette_pixels_of_view[s[u] - 1];
+        }
+    }
+    // Too little of a missed map's rendering agrees: it claims nothing.
+    for (int k = 0; k < n; ++k) {
+        const size_t i = static_cast<size_t>(k);
+        if (out.instance_of_view[i] != 0 || out.silhouette_pixels_of_view[i] == 0) continue;
+        if (static_cast<float>(out.silhouette_pixels_of_view[i]) >=
+            config.min_silhouette_fraction * static_cast<float>(rendered[i]))
+            continue;
+        out.view_labels.setTo(0, out.view_labels == static_cast<uint16_t>(k + 1));
+        out.pixels_of_view[i] = out.silhouette_pixels_of_view[i] = 0;
+    }
+    if (have_labels) {  // what the maps still claim of each unmatched instance
+        for (auto& [id, count] : claimed) {
+            count = cv::countNonZero((instances.labels == id) & (out.view_labels != 0));
+        }
+    }
+    for (const dynamics::InstanceInfo& row : instances.instances) {
+        if (row.kind == dynamics::ObjectKind::kRigid && row.pixels > 0 &&
+            !view_of_instance.count(row.id)) {
+            out.unmatched_rigid.push_back(row.id);
+            out.unmatched_claimed.push_back(claimed[row.id]);
+        }
+    }
+    return out;
+}
+
+}  // namespace df::objects

@@ -1,0 +1,107 @@
+#pragma once
+/// Which pixels of a frame belong to which object map (paper, Mapping; MaskFusion's matching):
+/// every live object map is rendered into the frame (its prediction), a rigid instance of the
+/// frame's segmentation matches the map whose rendered silhouette covers enough of it with the
+/// same class, and a map also claims the pixels of its silhouette where the frame's depth agrees
+/// with the rendered depth (the object seen but missed by the detector this frame). DDS-free:
+/// plain label images and depth maps.
+#include <cstdint>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "dynamics/frame_segments.hpp"
+
+namespace df::objects {
+
+struct AssociationConfig {
+    /// A rigid instance matches an object map when at least this fraction of its pixels lie in
+    /// the map's rendered silhouette (MaskFusion: 5 % of the mask; higher here, since our
+    /// instances are box-and-segment fusions whose outlines are good) ...
+    float min_overlap = 0.3f;
+    /// ... and their classes agree (false: any class) ...
+    bool class_must_agree = true;
+    /// ... unless at least this fraction of the instance lies in the silhouette: the same
+    /// surface, which a detector may name car in one frame and truck in the next (1: never).
+    float any_class_overlap = 0.6f;
+    /// A silhouette pixel of a map that no instance claims is the map's when the frame's depth
+    /// there is within this of the rendered depth (metres) plus depth_tolerance_per_m2 z^2.
+    float depth_tolerance_m = 0.03f;
+    float depth_tolerance_per_m2 = 0.01f;
+    /// Whether a map with a matched instance also claims its depth-agreeing silhouette pixels.
+    /// false: only maps the detector missed this frame do (the silhouette of a map that took
+    /// in a little floor at its feet agrees with the floor, and the floor's static texture
+    /// would hold the object back when it moves).
+    bool silhouette_when_matched = false;
+    /// A map the detector missed keeps its silhouette's pixels only when the frame agrees with
+    /// at least this fraction of its rendering (where the frame has depth and no person or
+    /// mover stands before it); else it claims nothing this frame (its object left, or what
+    /// agrees is only the floor at its feet).
+    float min_silhouette_fraction = 0.5f;
+    /// A pixel the static map's rendering explains within this (metres) plus
+    /// background_tolerance_per_m2 z^2 is the background's: a map's silhouette does not claim
+    /// it, and an object does not fuse it. Tighter than depth_tolerance_m, since the lower part
+    /// of an object on the floor is only centimetres in front of the floor behind it.
+    float background_tolerance_m = 0.015f;
+    float background_tolerance_per_m2 = 0.003f;
+};
+
+std::string validate(const AssociationConfig& config);
+
+/// One object map as rendered into the current frame.
+struct ObjectView {
+    int class_id = -1;
+    /// CV_32F metres, the rendered depth (camera z) of the map's surface, 0 where it shows none.
+    cv::Mat depth_m;
+};
+
+/// What association decided for one frame. Views are referred to by their index in the input.
+struct Association {
+    /// Per view: the frame instance id matched to it (0: none).
+    std::vector<uint16_t> instance_of_view;
+    /// Per view: pixels it claims (matched instance and depth-agreeing silhouette).
+    std::vector<int> pixels_of_view;
+    /// Per view: of those, pixels only its silhouette gave (no instance claimed them).
+    std::vector<int> silhouette_pixels_of_view;
+    /// The frame's rigid instances no view matched, by id, and how many of each one's pixels a
+    /// silhouette claimed anyway (an instance mostly claimed is a known object the detector
+    /// named otherwise, not a new one).
+    std::vector<uint16_t> unmatched_rigid;
+    std::vector<int> unmatched_claimed;
+    /// CV_16UC1, per pixel the index + 1 of the view that claims it, 0 none.
+    cv::Mat view_labels;
+};
+
+/// Associates the frame's instances (`instances`, a label image of the frame's size with its
+/// table) with the rendered object maps. `depth_m`: the frame's depth (CV_32F metres, 0
+/// invalid), of the same size. `background_depth_m` (may be empty): the static map's rendered
+/// depth; a silhouette pixel it explains as well (the floor an object stands on, which a map
+/// may have taken in at its feet) stays the background's. Instances of non-rigid and unknown kinds
+/// are never matched, and their pixels are never claimed by a silhouette (a person in front of a
+/// car stays the person's). Where two silhouettes overlap the nearer surface wins. Greedy: pairs
+/// are taken by decreasing overlap, each view and each instance at most once.
+Association associate(const dynamics::LabelImage& instances, const std::vector<ObjectView>& views,
+                      const cv::Mat& depth_m, const AssociationConfig& config,
+                      const cv::Mat& background_depth_m = cv::Mat());
+
+/// True when `measured` (metres, > 0) agrees with `rendered` (metres, 0 = nothing rendered)
+/// within tolerance_m + tolerance_per_m2 z^2.
+inline bool depth_agrees(float measured, float rendered, float tolerance_m,
+                         float tolerance_per_m2) {
+    const float tolerance = tolerance_m + tolerance_per_m2 * rendered * rendered;
+    return rendered > 0.f && measured - rendered <= tolerance && rendered - measured <= tolerance;
+}
+/// depth_agrees with an object map's rendering (depth_tolerance_*).
+inline bool agrees_with_object(float measured, float rendered, const AssociationConfig& c) {
+    return depth_agrees(measured, rendered, c.depth_tolerance_m, c.depth_tolerance_per_m2);
+}
+/// depth_agrees with the static map's rendering (background_tolerance_*).
+inline bool agrees_with_background(float measured, float rendered, const AssociationConfig& c) {
+    return depth_agrees(measured, rendered, c.background_tolerance_m,
+                        c.background_tolerance_per_m2);
+}
+
+/// Intersection over union of two boxes (0 when either is empty).
+float box_iou(const cv::Rect2f& a, const cv::Rect2f& b);
+
+}  // namespace df::objects

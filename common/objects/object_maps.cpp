@@ -1,0 +1,431 @@
+#include "objects/object_maps.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "slam/pose.hpp"
+
+namespace df::objects {
+namespace {
+
+io::StampedPose stamped(int64_t sensor_ns, const Eigen::Isometry3d& pose) {
+    io::StampedPose p;
+    p.stamp_s = static_cast<double>(sensor_ns) * 1e-9;
+    p.t = pose.translation();
+    p.q = Eigen::Quaterniond(pose.linear()).normalized();
+    return p;
+}
+
+/// CV_8UC1: 255 where `labels` is not `id` (the pixels left out when tracking or fusing `id`).
+cv::Mat all_but(const cv::Mat& labels, uint16_t id) { return labels != id; }
+
+/// Mean of the valid vertices under `mask` (camera frame) of `vertex` (default: the level's);
+/// false when there are none.
+bool mean_vertex(const slam::FrameLevel& level, const cv::Mat& mask, Eigen::Vector3d* out,
+                 const cv::Mat& vertex = cv::Mat()) {
+    const cv::Mat& vertices = vertex.empty() ? level.vertex : vertex;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    int n = 0;
+    for (int v = 0; v < level.height(); ++v) {
+        const uint8_t* m = mask.ptr<uint8_t>(v);
+        const cv::Vec3f* p = vertices.ptr<cv::Vec3f>(v);
+        for (int u = 0; u < level.width(); ++u) {
+            if (m[u] == 0 || !slam::is_valid_vertex(p[u])) continue;
+            sum += Eigen::Vector3d(p[u][0], p[u][1], p[u][2]);
+            ++n;
+        }
+    }
+    if (n == 0) return false;
+    *out = sum / n;
+    return true;
+}
+
+/// Where the map's surfel centres project at object_T_camera (level-0 pixels), grown by a margin
+/// for the discs' extent and the motion still to be tracked; empty when none is in front.
+cv::Rect projected_box(const map::SurfelMap& map, const Eigen::Isometry3d& object_T_camera,
+                       const io::Intrinsics& k, cv::Size size) {
+    const Eigen::Isometry3f camera_T_object = object_T_camera.inverse().cast<float>();
+    float u0 = 1e9f, v0 = 1e9f, u1 = -1e9f, v1 = -1e9f;
+    for (const map::Surfel& s : map.surfels()) {
+        const Eigen::Vector3f p = camera_T_object * s.position;
+        if (!(p.z() > 0.05f)) continue;
+        const float u = static_cast<float>(k.fx) * p.x() / p.z() + static_cast<float>(k.cx);
+        const float v = static_cast<float>(k.fy) * p.y() / p.z() + static_cast<float>(k.cy);
+        u0 = std::min(u0, u);
+        u1 = std::max(u1, u);
+        v0 = std::min(v0, v);
+        v1 = std::max(v1, v);
+    }
+    if (u1 < u0) return {};
+    const float mu = 16.f + 0.15f * (u1 - u0), mv = 16.f + 0.15f * (v1 - v0);
+    const cv::Rect box(
+        cv::Point(static_cast<int>(std::floor(u0 - mu)), static_cast<int>(std::floor(v0 - mv))),
+        cv::Point(static_cast<int>(std::ceil(u1 + mu)), static_cast<int>(std::ceil(v1 + mv))));
+    return box & cv::Rect(0, 0, size.width, size.height);
+}
+
+cv::Rect2f box_of(const cv::Mat& mask) {
+    const cv::Rect r = cv::boundingRect(mask);
+    return cv::Rect2f(static_cast<float>(r.x), static_cast<float>(r.y), static_cast<float>(r.width),
+                      static_cast<float>(r.height));
+}
+
+}  // namespace
+
+std::string validate(const ObjectMapsConfig& c) {
+    if (std::string e = validate(c.association); !e.empty()) return e;
+    if (c.min_create_pixels < 1)
+        return "objects.min_create_pixels must be >= 1, got " + std::to_string(c.min_create_pixels);
+    if (c.create_after_frames < 1)
+        return "objects.create_after_frames must be >= 1, got " +
+               std::to_string(c.create_after_frames);
+    if (!(c.candidate_min_iou >= 0.f && c.candidate_min_iou <= 1.f))
+        return "objects.candidate_min_iou must be in [0, 1]";
+    if (c.retire_after_frames < 1) return "objects.retire_after_frames must be >= 1";
+    if (!(c.revive_max_distance_m >= 0.f)) return "objects.revive_max_distance_m must be >= 0";
+    if (c.max_objects < 0 || c.max_objects > 64)
+        return "objects.max_objects must be in [0, 64] (the object_poses topic holds 64)";
+    if (c.min_inliers < 1) return "objects.min_inliers must be >= 1";
+    if (c.min_track_pixels < 1) return "objects.min_track_pixels must be >= 1";
+    if (c.max_surfels < 1) return "objects.max_surfels must be >= 1";
+    if (c.fuse_erode_px < 0 || c.fuse_erode_px > 16) return "objects.fuse_erode_px must be 0..16";
+    return "";
+}
+
+const char* to_string(ObjectState state) {
+    switch (state) {
+        case ObjectState::kActive:
+            return "active";
+        case ObjectState::kRetired:
+            return "retired";
+    }
+    return "?";
+}
+
+ObjectMaps::ObjectMaps(const ObjectMapsConfig& config, const slam::TrackingConfig& tracking,
+                       const map::SurfelMapConfig& map, const map::PredictionConfig& prediction)
+    : config_(config), tracking_(tracking), map_config_(map), prediction_(prediction) {
+    tracking_.min_inliers = config.min_inliers;
+    map_config_.max_surfels = config.max_surfels;
+    // Every surfel of a small map counts: the object's model is rendered whole.
+    prediction_.min_confidence = 0.f;
+}
+
+int ObjectMaps::live_count() const {
+    return static_cast<int>(std::count_if(objects_.begin(), objects_.end(), [](const ObjectMap& o) {
+        return o.state == ObjectState::kActive;
+    }));
+}
+
+Eigen::Vector3d ObjectMaps::centroid_in_world(const ObjectMap& object) const {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    const auto& surfels = object.map.map().surfels();
+    for (const map::Surfel& s : surfels) sum += s.position.cast<double>();
+    const Eigen::Vector3d local = surfels.empty() ? sum : Eigen::Vector3d(sum / surfels.size());
+    return object.map.world_T_map() * local;
+}
+
+Result<ObjectFrame> ObjectMaps::predict_and_associate(const slam::Frame& frame,
+                                                      const dynamics::LabelImage& instances,
+                                                      const Eigen::Isometry3d& world_T_camera_guess,
+                                                      int map_time,
+                                                      const cv::Mat& background_depth_m) {
+    ObjectFrame out;
+    out.world_T_camera_guess = world_T_camera_guess;
+    const slam::FrameLevel& level = frame.levels[0];
+    std::vector<ObjectView> views;
+    for (size_t i = 0; i < objects_.size(); ++i) {
+        ObjectMap& o = objects_[i];
+        if (o.state != ObjectState::kActive) continue;
+        const Eigen::Isometry3d world_T_object_guess =
+            slam::orthonormalized(o.map.world_T_map() * o.body_motion);
+        const Eigen::Isometry3d object_T_camera =
+            slam::orthonormalized(world_T_object_guess.inverse() * world_T_camera_guess);
+        ObjectView view;
+        view.class_id = o.class_id;
+        view.depth_m = cv::Mat::zeros(level.depth_m.size(), CV_32F);
+        cv::Rect roi;
+        const slam::Frame part = slam::crop(
+            frame,
+            projected_box(o.map.map(), object_T_camera, level.intrinsics, level.depth_m.size()),
+            &roi);
+        if (!roi.empty()) {
+            // Rendered in its part of the frame only: the cost follows the object's size.
+            DF_RETURN_IF_ERROR(o.map.predict_model(part, object_T_camera, map_time, prediction_));
+            cv::Mat z;
+            cv::extractChannel(o.map.model().vertex, z, 2);
+            z.copyTo(view.depth_m(roi));
+        }
+        views.push_back(std::move(view));
+        out.live.push_back(i);
+        out.rois.push_back(roi);
+    }
+    out.association =
+        associate(instances, views, level.depth_m, config_.association, background_depth_m);
+    out.object_ids = cv::Mat::zeros(level.depth_m.size(), CV_16UC1);
+    for (size_t k = 0; k < out.live.size(); ++k) {
+        const ObjectMap& o = objects_[out.live[k]];
+        out.object_ids.setTo(o.id, out.association.view_labels == static_cast<uint16_t>(k + 1));
+        ObjectReport r;
+        r.id = o.id;
+        r.class_id = o.class_id;
+        r.visible = cv::countNonZero(views[k].depth_m) > 0;
+        r.pixels = out.association.pixels_of_view[k];
+        r.silhouette_pixels = out.association.silhouette_pixels_of_view[k];
+        r.instance = out.association.instance_of_view[k];
+        r.world_T_object = o.map.world_T_map();
+        out.reports.push_back(r);
+    }
+    return out;
+}
+
+Result<slam::TrackingResult> ObjectMaps::track_from(const slam::Frame& frame, ObjectMap& o,
+                                                    const Eigen::Isometry3d& world_T_object_guess,
+                                                    const Eigen::Isometry3d& world_T_camera,
+                                                    const cv::Rect& instance_box,
+                                                    const cv::Mat& object_ids, cv::Rect* roi,
+                                                    int map_time) {
+    const Eigen::Isometry3d initial =
+        slam::orthonormalized(world_T_object_guess.inverse() * world_T_camera);
+    const slam::FrameLevel& level = frame.levels[0];
+    const cv::Rect projected =
+        projected_box(o.map.map(), initial, level.intrinsics, level.depth_m.size());
+    const slam::Frame part = slam::crop(frame, projected | instance_box, roi);
+    if (roi->empty()) return slam::TrackingResult{};
+    // The model again at the camera's tracked pose, over the instance too (it may have moved
+    // out of the first rendering's part of the frame).
+    DF_RETURN_IF_ERROR(o.map.predict_model(part, initial, map_time, prediction_));
+    const cv::Mat mask = all_but(object_ids(*roi), static_cast<uint16_t>(o.id));
+    return o.map.track(part, initial, mask, tracking_);
+}
+
+Status ObjectMaps::track(const slam::Frame& frame, const dynamics::LabelImage& instances,
+                         const Eigen::Isometry3d& world_T_camera, int map_time, ObjectFrame* of) {
+    const slam::FrameLevel& level = frame.levels[0];
+    for (size_t k = 0; k < of->live.size(); ++k) {
+        ObjectMap& o = objects_[of->live[k]];
+        ObjectReport& r = of->reports[k];
+        if (r.pixels < config_.min_track_pixels) continue;
+        const Eigen::Isometry3d guess = slam::orthonormalized(o.map.world_T_map() * o.body_motion);
+        const cv::Mat instance =
+            r.instance != 0 ? cv::Mat(instances.labels == r.instance) : cv::Mat();
+        const cv::Rect instance_box = instance.empty() ? cv::Rect() : cv::boundingRect(instance);
+        auto result = track_from(frame, o, guess, world_T_camera, instance_box, of->object_ids,
+                                 &of->rois[k], map_time);
+        if (!result) return result.status();
+        if (result->state != slam::TrackingState::kOk && !instance.empty()) {
+            // The detector sees it where the guess does not put it (it turned or sped up):
+            // start again with the map's visible centroid moved onto the instance's.
+            Eigen::Vector3d seen, rendered;
+            cv::Mat model_valid;
+            cv::extractChannel(o.map.model().vertex, model_valid, 2);
+            cv::Rect used;
+            const slam::Frame part = slam::crop(frame, of->rois[k], &used);
+            if (!used.empty() && mean_vertex(level, instance, &seen) &&
+                mean_vertex(part.levels[0], model_valid > 0.f, &rendered, o.map.model().vertex)) {
+                const Eigen::Vector3d shift = world_T_camera.linear() * (seen - rendered);
+                Eigen::Isometry3d moved = guess;
+                moved.pretranslate(shift);
+                auto retry = track_from(frame, o, moved, world_T_camera, instance_box,
+                                        of->object_ids, &of->rois[k], map_time);
+                if (!retry) return retry.status();
+                if (retry->state == slam::TrackingState::kOk) result = retry;
+            }
+        }
+        r.tracking = *result;
+        o.map.set_last_tracking(*result);
+        if (result->state != slam::TrackingState::kOk) {
+            // The output keeps its last tracked pose. A map the detector no longer reports
+            // is moved on by its last motion (it may be there, unseen); one it reports stays
+            // where it was tracked last, so the detection keeps matching it.
+            if (instance.empty()) o.map.set_world_T_map(guess);
+            if (++o.frames_lost > 3 || !instance.empty())
+                o.body_motion = Eigen::Isometry3d::Identity();
+            continue;
+        }
+        const Eigen::Isometry3d world_T_object =
+            slam::orthonormalized(world_T_camera * result->world_T_camera.inverse());
+        const Eigen::Isometry3d previous = o.map.world_T_map();
+        o.body_motion = slam::orthonormalized(previous.inverse() * world_T_object);
+        if (o.frames_lost > 0) o.body_motion = Eigen::Isometry3d::Identity();
+        o.frames_lost = 0;
+        o.map.set_world_T_map(world_T_object);
+        o.trajectory.push_back(stamped(frame.sensor_ns, world_T_object));
+        ++o.frames_tracked;
+        r.tracked = true;
+        r.world_T_object = world_T_object;
+    }
+    return Status::ok();
+}
+
+cv::Mat ObjectMaps::fusable(const dynamics::LabelImage& instances, uint16_t id,
+                            const cv::Mat& depth_m, const cv::Mat& background_depth_m) const {
+    cv::Mat mask = instances.labels == id;
+    if (config_.fuse_erode_px > 0) {
+        const int k = 2 * config_.fuse_erode_px + 1;
+        cv::erode(mask, mask, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k)));
+    }
+    if (background_depth_m.empty() || background_depth_m.size() != depth_m.size()) return mask;
+    for (int v = 0; v < mask.rows; ++v) {
+        uint8_t* m = mask.ptr<uint8_t>(v);
+        const float* d = depth_m.ptr<float>(v);
+        const float* b = background_depth_m.ptr<float>(v);
+        for (int u = 0; u < mask.cols; ++u)
+            if (m[u] && agrees_with_background(d[u], b[u], config_.association)) m[u] = 0;
+    }
+    return mask;
+}
+
+std::vector<const dynamics::InstanceInfo*> ObjectMaps::update_candidates(
+    const dynamics::LabelImage& instances, const Association& association, uint64_t frame_number) {
+    std::vector<const dynamics::InstanceInfo*> ready;
+    std::vector<Candidate> next;
+    for (size_t i = 0; i < association.unmatched_rigid.size(); ++i) {
+        const dynamics::InstanceInfo* row = instances.find(association.unmatched_rigid[i]);
+        if (row == nullptr || row->pixels < config_.min_create_pixels) continue;
+        // Mostly inside a known object's silhouette: that object, named otherwise.
+        if (2 * association.unmatched_claimed[i] > row->pixels) continue;
+        const cv::Rect2f box =
+            row->box.area() > 0.f ? row->box : box_of(instances.labels == row->id);
+        Candidate c{row->class_id, row->score, box, 1, frame_number};
+        for (const Candidate& old : candidates_) {
+            if (old.class_id == row->class_id && old.last_frame + 1 == frame_number &&
+                box_iou(old.box, box) >= config_.candidate_min_iou) {
+                c.sightings = old.sightings + 1;
+                c.score = std::max(c.score, old.score);
+                break;
+            }
+        }
+        if (c.sightings >= config_.create_after_frames) {
+            ready.push_back(row);
+        } else {
+            next.push_back(c);
+        }
+    }
+    candidates_ = std::move(next);
+    return ready;
+}
+
+Status ObjectMaps::create(const slam::Frame& frame, const cv::Mat& rgb,
+                          const dynamics::LabelImage& instances, const dynamics::InstanceInfo& row,
+                          const Eigen::Isometry3d& world_T_camera, int map_time,
+                          uint64_t frame_number, const cv::Mat& background_depth_m,
+                          ObjectFrame* of) {
+    const slam::FrameLevel& level = frame.levels[0];
+    // Its pixels: the instance's that may be fused, less any already claimed by a map.
+    const cv::Mat pixels =
+        fusable(instances, row.id, level.depth_m, background_depth_m) & (of->object_ids == 0);
+    Eigen::Vector3d centroid_camera;
+    if (!mean_vertex(level, pixels, &centroid_camera)) return Status::ok();
+    const Eigen::Vector3d centroid = world_T_camera * centroid_camera;
+
+    // A retired map of its class near it: the object came back.
+    ObjectMap* object = nullptr;
+    for (ObjectMap& o : objects_) {
+        if (o.state != ObjectState::kRetired || o.class_id != row.class_id) continue;
+        if ((centroid_in_world(o) - centroid).norm() <= config_.revive_max_distance_m) {
+            object = &o;
+            break;
+        }
+    }
+    if (object == nullptr && live_count() >= config_.max_objects) {
+        ++counters_.refused_by_cap;
+        return Status::ok();
+    }
+    ObjectReport r;
+    r.created = true;
+    r.class_id = row.class_id;
+    r.instance = row.id;
+    r.visible = true;
+    if (object != nullptr) {
+        // Moved while out of view: shift it so its centroid sits on what is seen now (the
+        // next frame's tracking refines it).
+        Eigen::Isometry3d pose = object->map.world_T_map();
+        pose.pretranslate(centroid - centroid_in_world(*object));
+        object->map.set_world_T_map(pose);
+        object->state = ObjectState::kActive;
+        object->body_motion = Eigen::Isometry3d::Identity();
+        object->last_seen_frame = frame_number;
+        ++counters_.revived;
+        r.id = object->id;
+        r.world_T_object = pose;
+        r.surfels = object->map.map().size();
+        of->reports.push_back(r);
+        return Status::ok();
+    }
+    ObjectMap o(next_id_++, map_config_);
+    o.class_id = row.class_id;
+    o.score = row.score;
+    o.first_frame = o.last_seen_frame = frame_number;
+    Eigen::Isometry3d world_T_object = Eigen::Isometry3d::Identity();
+    world_T_object.translation() = centroid;
+    o.map.set_world_T_map(world_T_object);
+    const Eigen::Isometry3d object_T_camera = world_T_object.inverse() * world_T_camera;
+    const cv::Mat left_out = pixels == 0;
+    auto fused = o.map.fuse(frame, rgb, left_out, object_T_camera, map_time, false, prediction_);
+    if (!fused) return fused.status();
+    o.trajectory.push_back(stamped(frame.sensor_ns, world_T_object));
+    ++o.frames_tracked;
+    of->object_ids.setTo(o.id, pixels);
+    r.id = o.id;
+    r.pixels = cv::countNonZero(pixels);
+    r.tracked = true;
+    r.world_T_object = world_T_object;
+    r.surfels = o.map.map().size();
+    of->reports.push_back(r);
+    objects_.push_back(std::move(o));
+    ++counters_.created;
+    return Status::ok();
+}
+
+Status ObjectMaps::map(const slam::Frame& frame, const cv::Mat& rgb,
+                       const dynamics::LabelImage& instances,
+                       const Eigen::Isometry3d& world_T_camera, int map_time, uint64_t frame_number,
+                       const cv::Mat& background_depth_m, ObjectFrame* of) {
+    for (size_t k = 0; k < of->live.size(); ++k) {
+        ObjectMap& o = objects_[of->live[k]];
+        ObjectReport& r = of->reports[k];
+        const Eigen::Isometry3d object_T_camera = o.map.world_T_map().inverse() * world_T_camera;
+        if (r.pixels > 0) o.last_seen_frame = frame_number;
+        const uint64_t before = o.map.map().total_rejected_by_capacity();
+        cv::Rect used;
+        const slam::Frame part = slam::crop(frame, of->rois[k], &used);
+        if (r.tracked && r.instance != 0 && !used.empty()) {
+            // Only what the detector's instance shows is fused: a silhouette's depth-agreeing
+            // pixels would let the map grow into the floor it stands on.
+            const cv::Mat mask = (fusable(instances, r.instance, frame.levels[0].depth_m,
+                                          background_depth_m)(used) == 0) |
+                                 (of->object_ids(used) != static_cast<uint16_t>(o.id));
+            auto fused =
+                o.map.fuse(part, rgb(used), mask, object_T_camera, map_time, false, prediction_);
+            if (!fused) return fused.status();
+        }
+        if (r.visible && !used.empty() && (r.tracked || r.pixels == 0)) {
+            // Where the frame sees through the map, the object is not (it moved away, or the
+            // map took in something that was not it). Not while it claims pixels that tracking
+            // failed on: the map would be carved at a wrong pose. Pixels of persons and
+            // unknown movers in front prove nothing either way; they are nearer, never
+            // "through".
+            auto carved = o.map.carve(part, cv::Mat(), object_T_camera, map_time);
+            if (!carved) return carved.status();
+        }
+        counters_.surfels_rejected_by_capacity += o.map.map().total_rejected_by_capacity() - before;
+        r.surfels = o.map.map().size();
+        if (frame_number - o.last_seen_frame >=
+                static_cast<uint64_t>(config_.retire_after_frames) ||
+            o.map.map().size() == 0) {
+            o.state = ObjectState::kRetired;
+            r.state = ObjectState::kRetired;
+            ++counters_.retired;
+        }
+    }
+    for (const dynamics::InstanceInfo* row :
+         update_candidates(instances, of->association, frame_number)) {
+        DF_RETURN_IF_ERROR(create(frame, rgb, instances, *row, world_T_camera, map_time,
+                                  frame_number, background_depth_m, of));
+    }
+    return Status::ok();
+}
+
+}  // namespace df::objects

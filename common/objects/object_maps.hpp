@@ -1,0 +1,210 @@
+#pragma once
+/// Object maps (paper, Mapping and Tracking): every rigid object of a known class that the
+/// detector keeps seeing gets a surfel map of its own, in its own frame, with its own pose in
+/// the world, so it may move independently of the room and of the other objects. Each frame:
+///   1. predict: every live map is rendered at the pose the camera and the object are expected
+///      at (constant velocity), and the frame's rigid instances are associated with the
+///      renderings (association.hpp): each map claims its instance's pixels and the pixels of
+///      its silhouette whose depth agrees (it is seen even when the detector misses it);
+///   2. track (once the camera's pose is known): each map with claimed pixels is tracked on
+///      those pixels alone against its own rendering; world_T_object = world_T_camera *
+///      camera_T_object. A map whose tracking fails keeps its last pose and says so;
+///   3. map: tracked maps fuse their pixels; every map in view loses the surfels the frame sees
+///      through (free-space violations: an object that left shrinks); an unmatched rigid
+///      instance seen on enough consecutive frames, big enough, creates a map (or revives a
+///      retired map of its class near it); maps unmatched for too long are retired (kept for
+///      the outputs, no longer tracked).
+/// DDS-free. SlamSystem orchestrates it around the static map (which is one MapInstance, as
+/// each object map is).
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "core/status.hpp"
+#include "dynamics/frame_segments.hpp"
+#include "io/tum/trajectory.hpp"
+#include "map/surfel_map.hpp"
+#include "objects/association.hpp"
+#include "slam/frame.hpp"
+#include "slam/map_instance.hpp"
+#include "slam/tracker.hpp"
+
+namespace df::objects {
+
+struct ObjectMapsConfig {
+    /// false: no object maps (rigid instances are handled as the invalid mask says).
+    bool enabled = true;
+    AssociationConfig association;
+    /// An unmatched rigid instance creates a map when it has at least this many pixels (at the
+    /// processing resolution) ...
+    int min_create_pixels = 400;
+    /// ... on this many consecutive frames, each sighting's box overlapping the previous one's
+    /// by at least candidate_min_iou (a detector's one-frame false positive makes no map).
+    int create_after_frames = 3;
+    float candidate_min_iou = 0.3f;
+    /// A map that claims no pixel for this many frames is retired: no longer rendered or
+    /// tracked, kept with its model and trajectory for the outputs.
+    int retire_after_frames = 45;
+    /// A new candidate of a retired map's class whose centroid lies within this of the map's
+    /// last centroid revives that map (the object came back into view), metres.
+    float revive_max_distance_m = 0.75f;
+    /// Live maps at most; a creation past it is refused and counted.
+    int max_objects = 16;
+    /// Tracking an object needs fewer inliers than the room: at least this many ICP inliers
+    /// (the room's tracking.min_inliers is for whole frames) ...
+    int min_inliers = 120;
+    /// ... and the claimed pixels must be at least this many for tracking to be tried.
+    int min_track_pixels = 150;
+    /// Surfels per object map at most (the map's capacity; creation past it is counted).
+    size_t max_surfels = 200'000;
+    /// An instance's mask is eroded by this many pixels before its pixels are fused into its
+    /// map (box-and-segment fusion is least sure at the outline, where the floor meets it).
+    int fuse_erode_px = 1;
+};
+
+std::string validate(const ObjectMapsConfig& config);
+
+enum class ObjectState {
+    kActive,   ///< rendered, associated and tracked every frame
+    kRetired,  ///< unmatched too long: kept for the outputs
+};
+const char* to_string(ObjectState state);
+
+/// One object map and its history.
+struct ObjectMap {
+    int id = 0;             ///< the object's id for the whole run (1, 2, ...)
+    int class_id = -1;      ///< COCO index
+    float score = 0.f;      ///< detection score of the instance that created it
+    slam::MapInstance map;  ///< surfels in the object frame; world_T_map() = world_T_object
+    ObjectState state = ObjectState::kActive;
+    uint64_t first_frame = 0, last_seen_frame = 0;  ///< frames (SlamSystem's count)
+    uint64_t frames_tracked = 0;
+    int frames_lost = 0;  ///< consecutive frames its tracking failed
+    /// world_T_object(t-2)^-1 world_T_object(t-1): the motion in the object's own frame, for
+    /// the constant-velocity guess; identity after a failed tracking.
+    Eigen::Isometry3d body_motion = Eigen::Isometry3d::Identity();
+    std::vector<io::StampedPose> trajectory;  ///< world_T_object of the frames it was tracked
+
+    ObjectMap(int id_, const map::SurfelMapConfig& config) : id(id_), map(id_, config) {}
+};
+
+/// What happened to one object map in one frame.
+struct ObjectReport {
+    int id = 0;
+    int class_id = -1;
+    ObjectState state = ObjectState::kActive;
+    bool created = false;           ///< made (or revived) this frame
+    bool visible = false;           ///< its rendering showed in the frame
+    int pixels = 0;                 ///< pixels it claimed (instance and silhouette)
+    int silhouette_pixels = 0;      ///< of those, the ones only its rendering gave
+    uint16_t instance = 0;          ///< the frame instance matched to it (0 none)
+    bool tracked = false;           ///< tracking ran and passed its checks
+    slam::TrackingResult tracking;  ///< when tracking ran
+    Eigen::Isometry3d world_T_object = Eigen::Isometry3d::Identity();
+    size_t surfels = 0;
+};
+
+/// Counters over the run.
+struct ObjectCounters {
+    uint64_t created = 0, revived = 0, retired = 0;
+    uint64_t refused_by_cap = 0;                ///< creations refused at max_objects
+    uint64_t surfels_rejected_by_capacity = 0;  ///< over every map, at max_surfels
+};
+
+/// One frame's object pixels, from predict_and_associate() to map().
+struct ObjectFrame {
+    /// CV_16UC1 of the processing resolution: the object id that claims each pixel, 0 none.
+    cv::Mat object_ids;
+    /// Per live map (index into ObjectMaps::objects()), what association gave it.
+    std::vector<size_t> live;           ///< indices of the live maps, in view order
+    std::vector<cv::Rect> rois;         ///< per live map: its part of the frame (may be empty)
+    Association association;            ///< views = live, in that order
+    std::vector<ObjectReport> reports;  ///< per live map, then per map created this frame
+    Eigen::Isometry3d world_T_camera_guess = Eigen::Isometry3d::Identity();
+};
+
+class ObjectMaps {
+  public:
+    /// `tracking`: the static map's tracking thresholds (objects use them with min_inliers of
+    /// `config`); `map`, `prediction`: the static map's surfel and rendering settings (objects
+    /// use them with max_surfels of `config`).
+    ObjectMaps(const ObjectMapsConfig& config, const slam::TrackingConfig& tracking,
+               const map::SurfelMapConfig& map, const map::PredictionConfig& prediction);
+
+    /// Step 1: renders the live maps at the camera guess (each map moved on by its own
+    /// constant velocity) and associates them with the frame's instances (`instances`, at the
+    /// frame's level-0 size). `map_time`: the surfel maps' frame counter.
+    /// `background_depth_m`: the static map's rendered depth (CV_32F, may be empty), for
+    /// association.hpp's rule that what the background explains stays the background's.
+    Result<ObjectFrame> predict_and_associate(const slam::Frame& frame,
+                                              const dynamics::LabelImage& instances,
+                                              const Eigen::Isometry3d& world_T_camera_guess,
+                                              int map_time, const cv::Mat& background_depth_m);
+
+    /// Step 2: tracks every live map with enough pixels; `world_T_camera`: the frame's pose.
+    /// Records the pose of each tracked map in its trajectory (stamp: the frame's).
+    Status track(const slam::Frame& frame, const dynamics::LabelImage& instances,
+                 const Eigen::Isometry3d& world_T_camera, int map_time, ObjectFrame* object_frame);
+
+    /// Step 3: fusion of tracked maps, free-space carving of the maps in view, creation from
+    /// `instances`' unmatched rigid instances, retirement. `frame_number`: SlamSystem's frame
+    /// count; `rgb`: the frame's colour at level-0 size; `background_depth_m`: the static map's
+    /// rendered depth at world_T_camera (may be empty): instance pixels it explains are not
+    /// fused into an object (the floor at its feet).
+    Status map(const slam::Frame& frame, const cv::Mat& rgb, const dynamics::LabelImage& instances,
+               const Eigen::Isometry3d& world_T_camera, int map_time, uint64_t frame_number,
+               const cv::Mat& background_depth_m, ObjectFrame* object_frame);
+
+    /// Every map made in the run, live and retired, in creation order.
+    const std::vector<ObjectMap>& objects() const { return objects_; }
+    const ObjectCounters& counters() const { return counters_; }
+    const ObjectMapsConfig& config() const { return config_; }
+
+  private:
+    /// A rigid instance seen on consecutive frames, not yet a map.
+    struct Candidate {
+        int class_id = -1;
+        float score = 0.f;
+        cv::Rect2f box;
+        int sightings = 0;
+        uint64_t last_frame = 0;
+    };
+
+    int live_count() const;
+    /// Tracks `o` in its part of the frame (its rendering at the guess, and `instance_box`)
+    /// starting from world_T_object_guess; the part used goes to *roi.
+    Result<slam::TrackingResult> track_from(const slam::Frame& frame, ObjectMap& o,
+                                            const Eigen::Isometry3d& world_T_object_guess,
+                                            const Eigen::Isometry3d& world_T_camera,
+                                            const cv::Rect& instance_box, const cv::Mat& object_ids,
+                                            cv::Rect* roi, int map_time);
+    /// The map's centroid in the world (mean surfel position).
+    Eigen::Vector3d centroid_in_world(const ObjectMap& object) const;
+    /// Creates (or revives) a map from instance `id`'s pixels of this frame.
+    Status create(const slam::Frame& frame, const cv::Mat& rgb,
+                  const dynamics::LabelImage& instances, const dynamics::InstanceInfo& row,
+                  const Eigen::Isometry3d& world_T_camera, int map_time, uint64_t frame_number,
+                  const cv::Mat& background_depth_m, ObjectFrame* object_frame);
+    /// CV_8UC1, 255 on the pixels of instance `id` to fuse: eroded, valid depth, and not
+    /// explained by the background.
+    cv::Mat fusable(const dynamics::LabelImage& instances, uint16_t id, const cv::Mat& depth_m,
+                    const cv::Mat& background_depth_m) const;
+    /// Updates the candidates with this frame's unmatched rigid instances; returns the rows
+    /// whose candidate is ready to become a map.
+    std::vector<const dynamics::InstanceInfo*> update_candidates(
+        const dynamics::LabelImage& instances, const Association& association,
+        uint64_t frame_number);
+
+    ObjectMapsConfig config_;
+    slam::TrackingConfig tracking_;
+    map::SurfelMapConfig map_config_;
+    map::PredictionConfig prediction_;
+    std::vector<ObjectMap> objects_;
+    std::vector<Candidate> candidates_;
+    ObjectCounters counters_;
+    int next_id_ = 1;
+};
+
+}  // namespace df::objects

@@ -1,0 +1,162 @@
+// Object maps in the whole system on generated room4 frames (a car drives, a suitcase slides,
+// an unknown drum rolls; the SIMULATED detector gives boxes from the render's truth): the car
+// gets one map that follows it, within tolerance of its true trajectory; a map whose object the
+// detector stops reporting and that drives away is retired, and revived when it is reported
+// again; the cap on live maps is counted.
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include "eval/trajectory_metrics.hpp"
+#include "seg/frame_segmenter.hpp"
+#include "sim/simulated_detector.hpp"
+#include "sim_frames.hpp"
+#include "slam_system/slam_system.hpp"
+
+namespace df::slam {
+namespace {
+
+constexpr int kCarClass = 2;
+
+io::StampedPose stamped(int64_t sensor_ns, const Eigen::Isometry3d& pose) {
+    io::StampedPose p;
+    p.stamp_s = static_cast<double>(sensor_ns) * 1e-9;
+    p.t = pose.translation();
+    p.q = Eigen::Quaterniond(pose.linear());
+    return p;
+}
+
+struct RunResult {
+    std::vector<io::StampedPose> camera_gt, car_gt;
+    std::unique_ptr<SlamSystem> system;
+    std::vector<std::vector<objects::ObjectReport>> reports;  ///< per frame
+};
+
+/// `frames` frames of room4 through the system. On the frames `missed` says the detector does
+/// not report the car; on those `hidden` says the car is gone from the view as well (no depth).
+RunResult run(int frames, const SystemConfig& config, const std::function<bool(int)>& hidden = {},
+              const std::function<bool(int)>& missed = {}) {
+    const sim::Sequence s = test::make_noisy_sequence("room4", frames);
+    auto created = SlamSystem::create(config);
+    EXPECT_TRUE(created.is_ok()) << created.status().message();
+    RunResult r;
+    r.system = std::make_unique<SlamSystem>(std::move(created).value());
+    const seg::FrameSegmenterConfig segmenter;
+    const auto kind_of = [](const detect::Detection& d) {
+        return d.class_name == "person" ? detect::ClassKind::kNonRigid : detect::ClassKind::kRigid;
+    };
+    size_t car = 0;
+    for (size_t k = 0; k < s.scene.objects.size(); ++k)
+        if (s.scene.objects[k].class_id == kCarClass) car = k;
+    for (int i = 0; i < s.frames; ++i) {
+        const sim::RenderBuffers truth = sim::render_frame(s, i);
+        test::SimFrame f = test::render_sim_frame(s, i);
+        const bool hide = hidden && hidden(i);
+        if (hide) f.image.depth.setTo(0, truth.instance == static_cast<int>(car + 1));
+        r.camera_gt.push_back(stamped(f.image.sensor_ns, f.world_T_camera));
+        r.car_gt.push_back(
+            stamped(f.image.sensor_ns, sim::frame_state(s, i).objects[car].world_T_object));
+        auto geometric = seg::segment_depth(f.image, segmenter);
+        EXPECT_TRUE(geometric.is_ok()) << geometric.status().message();
+        std::vector<detect::Detection> boxes;
+        boxes = sim::simulate_detections(truth.instance, s.scene.objects, i,
+                                         sim::SimulatedDetectorConfig{});
+        if (hide || (missed && missed(i))) {
+            boxes.erase(
+                std::remove_if(boxes.begin(), boxes.end(),
+                               [](const detect::Detection& d) { return d.class_id == kCarClass; }),
+                boxes.end());
+        }
+        auto segments = seg::fuse_segments(*geometric, boxes, kind_of, segmenter.instances);
+        EXPECT_TRUE(segments.is_ok()) << segments.status().message();
+        auto report = r.system->process(f.image, *segments);
+        EXPECT_TRUE(report.is_ok()) << report.status().message();
+        r.reports.push_back(report.is_ok() ? report->objects
+                                           : std::vector<objects::ObjectReport>{});
+    }
+    return r;
+}
+
+std::vector<const objects::ObjectMap*> of_class(const objects::ObjectMaps& maps, int class_id) {
+    std::vector<const objects::ObjectMap*> out;
+    for (const objects::ObjectMap& o : maps.objects())
+        if (o.class_id == class_id) out.push_back(&o);
+    return out;
+}
+
+TEST(ObjectMaps, TheCarGetsOneMapThatFollowsIt) {
+    const int frames = 60;
+    const RunResult r = run(frames, SystemConfig{});
+    EXPECT_EQ(r.system->lost_frames(), 0u);
+    const auto cars = of_class(r.system->object_maps(), kCarClass);
+    ASSERT_EQ(cars.size(), 1u) << "one map for the car, no duplicate";
+    const objects::ObjectMap& car = *cars[0];
+    EXPECT_LE(car.first_frame, 5u);
+    EXPECT_GE(car.frames_tracked, static_cast<uint64_t>(0.8 * (frames - car.first_frame)));
+    EXPECT_GT(car.map.map().size(), 500u);
+    // Its trajectory against the truth: the world as the camera ATE aligns it, the object's
+    // frame from the first pose (docs/evaluation.md, "Object maps").
+    auto camera = eval::compute_ate(r.camera_gt, r.system->trajectory());
+    ASSERT_TRUE(camera.is_ok()) << camera.status().message();
+    eval::ObjectAlignment alignment;
+    alignment.world_gt_T_est = camera->gt_T_est;
+    alignment.object_frame = true;
+    auto errors = eval::compute_object_errors(r.car_gt, car.trajectory, alignment);
+    ASSERT_TRUE(errors.is_ok()) << errors.status().message();
+    EXPECT_LT(errors->ate.translation_m.rmse, 0.04);
+    EXPECT_LT(errors->rotation_deg.rmse, 4.0);
+    std::printf(
+        "room4 %d frames: car tracked %llu frames, trajectory %.2f cm / %.2f deg RMSE, "
+        "%zu surfels; camera ATE %.2f cm\n",
+        frames, static_cast<unsigned long long>(car.frames_tracked),
+        errors->ate.translation_m.rmse * 100, errors->rotation_deg.rmse, car.map.map().size(),
+        camera->translation_m.rmse * 100);
+}
+
+TEST(ObjectMaps, AMapWhoseObjectIsNoLongerSeenIsRetiredAndRevivedWhenSeenAgain) {
+    SystemConfig config;
+    config.objects.retire_after_frames = 5;
+    // The car is gone from frames 15 to 29 (no detection, no depth on it): its map claims no
+    // pixel and is retired; from frame 30 the car is seen again, 0.4 m on, and revives it.
+    const RunResult r = run(45, config, [](int i) { return i >= 15 && i < 30; });
+    const auto cars = of_class(r.system->object_maps(), kCarClass);
+    ASSERT_EQ(cars.size(), 1u) << "revived, not duplicated";
+    const objects::ObjectCounters& c = r.system->object_maps().counters();
+    EXPECT_GE(c.retired, 1u);
+    EXPECT_GE(c.revived, 1u);
+    EXPECT_EQ(cars[0]->state, objects::ObjectState::kActive);
+    bool tracked_after = false;
+    for (size_t i = 35; i < r.reports.size(); ++i)
+        for (const objects::ObjectReport& o : r.reports[i]) tracked_after |= o.tracked;
+    EXPECT_TRUE(tracked_after) << "tracked again after the revival";
+}
+
+TEST(ObjectMaps, AMissedDetectionDoesNotLoseTheObject) {
+    // The detector misses the car on frames 20 to 29 (the car is there): its map claims the
+    // pixels of its rendering that the frame's depth agrees with, and goes on tracking it.
+    const RunResult r = run(32, SystemConfig{}, {}, [](int i) { return i >= 20 && i < 30; });
+    const auto cars = of_class(r.system->object_maps(), kCarClass);
+    ASSERT_EQ(cars.size(), 1u);
+    int tracked = 0, matched = 0;
+    for (int i = 20; i < 30; ++i) {
+        for (const objects::ObjectReport& o : r.reports[static_cast<size_t>(i)]) {
+            if (o.id != cars[0]->id) continue;
+            tracked += o.tracked;
+            matched += o.instance != 0;
+        }
+    }
+    EXPECT_EQ(matched, 0) << "the detector reported nothing";
+    EXPECT_GE(tracked, 8) << "tracked on its rendering's pixels";
+}
+
+TEST(ObjectMaps, TheCapOnLiveMapsIsHitAndCounted) {
+    SystemConfig config;
+    config.objects.max_objects = 0;
+    const RunResult r = run(12, config);
+    EXPECT_TRUE(r.system->object_maps().objects().empty());
+    EXPECT_GT(r.system->object_maps().counters().refused_by_cap, 0u);
+    EXPECT_EQ(r.system->lost_frames(), 0u);
+}
+
+}  // namespace
+}  // namespace df::slam
