@@ -55,6 +55,41 @@ print("SLAM per frame, median / p95 ms: " + ", ".join(
     f"{k} {v['median']:.1f} / {v['p95']:.1f}" for k, v in st.items()))
 print(f"map: {s['surfels']} surfels ({s['stable_surfels']} stable), {s['map_bytes'] / 2**20:.1f} MiB")
 PY
+# One line per object map: class, frames tracked, surfels; on generated data, the error of its
+# trajectory against the ground-truth object of its class (the worlds aligned by the camera ATE,
+# the object's own frame by its first pose: df_eval object --world --body-align).
+if [ -f "$slam_out/objects.json" ]; then
+  /usr/bin/python3 - "$slam_out" "$DF_DATA" "$DF_BUILD/bin/df_eval" <<'PY' || true
+import json, os, subprocess, sys
+out, data, df_eval = sys.argv[1:4]
+objects = json.load(open(os.path.join(out, "objects.json")))["objects"]
+gt = {}
+if os.path.exists(os.path.join(data, "instances.json")):
+    for i in json.load(open(os.path.join(data, "instances.json")))["instances"]:
+        if i["kind"] == "rigid" and i.get("trajectory"):
+            gt.setdefault(i["class_name"], []).append(i)
+world = None
+if os.path.exists(os.path.join(out, "ate.json")):
+    a = json.load(open(os.path.join(out, "ate.json")))["ate"]["alignment_gt_T_est"]
+    world = " ".join(str(v) for v in a["translation_m"] + a["quaternion_xyzw"])
+print(f"objects: {len(objects)} object map(s) (objects.json, objects/<id>.txt and .ply)")
+for o in objects:
+    line = (f"  object {o['id']} {o['class_name']}: tracked {o['frames_tracked']} frames "
+            f"({o['first_frame']}..{o['last_frame']}), {o['surfels']} surfels, {o['state']}")
+    same = gt.get(o["class_name"], [])
+    if world and len(same) == 1 and o["frames_tracked"] >= 2:
+        j = os.path.join(out, f"eval_object_{o['id']}.json")
+        r = subprocess.run([df_eval, "object", os.path.join(data, same[0]["trajectory"]),
+                            os.path.join(out, o["trajectory"]), "--world", world, "--body-align",
+                            "--json", j], capture_output=True)
+        if r.returncode == 0:
+            e = json.load(open(j))["object"]
+            t = e["ate"]["translation_m"]["rmse"] * 100
+            rot = e.get("rotation_deg", {}).get("rmse", float("nan"))
+            line += f"; vs {same[0]['name']}: {t:.2f} cm, {rot:.2f} deg RMSE"
+    print(line)
+PY
+fi
 echo
 echo "trajectory: $slam_out/trajectory.txt (TUM format)"
 echo "map:        $slam_out/map.ply (open in MeshLab, CloudCompare or Open3D)"

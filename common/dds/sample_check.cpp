@@ -287,6 +287,7 @@ Status check_sample(const df_msg_ObjectPoses& p) {
         DF_RETURN_IF_ERROR(check_class(t, field + ".class_id", o.class_id));
         DF_RETURN_IF_ERROR(check_kind(t, field + ".kind", o.kind));
         DF_RETURN_IF_ERROR(check_bool(t, field + ".visible", o.visible));
+        DF_RETURN_IF_ERROR(check_bool(t, field + ".tracked", o.tracked));
         DF_RETURN_IF_ERROR(check_pose(t, field + ".world_T_object", o.world_T_object, true));
     }
     return Status::ok();

@@ -278,7 +278,8 @@ cv::Mat ObjectMaps::fusable(const dynamics::LabelImage& instances, uint16_t id,
 }
 
 std::vector<const dynamics::InstanceInfo*> ObjectMaps::update_candidates(
-    const dynamics::LabelImage& instances, const Association& association, uint64_t frame_number) {
+    const dynamics::LabelImage& instances, const Association& association, uint64_t frame_number,
+    const cv::Mat& depth_m, const cv::Mat& background_depth_m) {
     std::vector<const dynamics::InstanceInfo*> ready;
     std::vector<Candidate> next;
     for (size_t i = 0; i < association.unmatched_rigid.size(); ++i) {
@@ -286,6 +287,11 @@ std::vector<const dynamics::InstanceInfo*> ObjectMaps::update_candidates(
         if (row == nullptr || row->pixels < config_.min_create_pixels) continue;
         // Mostly inside a known object's silhouette: that object, named otherwise.
         if (2 * association.unmatched_claimed[i] > row->pixels) continue;
+        // Mostly explained by the static map: furniture that stood still since it was mapped
+        // with the room. It needs no map of its own (it would have next to nothing to fuse).
+        if (2 * cv::countNonZero(fusable(instances, row->id, depth_m, background_depth_m)) <
+            row->pixels)
+            continue;
         const cv::Rect2f box =
             row->box.area() > 0.f ? row->box : box_of(instances.labels == row->id);
         Candidate c{row->class_id, row->score, box, 1, frame_number};
@@ -421,7 +427,8 @@ Status ObjectMaps::map(const slam::Frame& frame, const cv::Mat& rgb,
         }
     }
     for (const dynamics::InstanceInfo* row :
-         update_candidates(instances, of->association, frame_number)) {
+         update_candidates(instances, of->association, frame_number, frame.levels[0].depth_m,
+                           background_depth_m)) {
         DF_RETURN_IF_ERROR(create(frame, rgb, instances, *row, world_T_camera, map_time,
                                   frame_number, background_depth_m, of));
     }

@@ -61,7 +61,7 @@ struct ObjectMapsConfig {
     size_t max_surfels = 200'000;
     /// An instance's mask is eroded by this many pixels before its pixels are fused into its
     /// map (box-and-segment fusion is least sure at the outline, where the floor meets it).
-    int fuse_erode_px = 1;
+    int fuse_erode_px = 0;
 };
 
 std::string validate(const ObjectMapsConfig& config);
@@ -191,11 +191,12 @@ class ObjectMaps {
     /// explained by the background.
     cv::Mat fusable(const dynamics::LabelImage& instances, uint16_t id, const cv::Mat& depth_m,
                     const cv::Mat& background_depth_m) const;
-    /// Updates the candidates with this frame's unmatched rigid instances; returns the rows
-    /// whose candidate is ready to become a map.
+    /// Updates the candidates with this frame's unmatched rigid instances (not those mostly
+    /// inside a map's silhouette or mostly explained by the static map); returns the rows whose
+    /// candidate is ready to become a map.
     std::vector<const dynamics::InstanceInfo*> update_candidates(
         const dynamics::LabelImage& instances, const Association& association,
-        uint64_t frame_number);
+        uint64_t frame_number, const cv::Mat& depth_m, const cv::Mat& background_depth_m);
 
     ObjectMapsConfig config_;
     slam::TrackingConfig tracking_;

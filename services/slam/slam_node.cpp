@@ -75,13 +75,16 @@ Result<std::unique_ptr<SlamNode>> SlamNode::create(const config::SlamServiceConf
         if (!w) return w.status();
         invalid.emplace(std::move(*w));
     }
+    auto object_poses = dds::Writer<df_msg_ObjectPoses>::create(
+        participant, dds::topic_name(ns, dds::topics::kObjectPoses));
+    if (!object_poses) return object_poses.status();
     auto status = dds::Writer<df_msg_StageStatus>::create(
         participant, dds::topic_name(ns, dds::topics::kStageStatus));
     if (!status) return status.status();
     return std::unique_ptr<SlamNode>(new SlamNode(
         config, system_config, std::move(*frames), std::move(objects), std::move(geometric),
-        std::move(*poses), std::move(invalid), std::move(*status), std::move(*waitset),
-        save_request));
+        std::move(*poses), std::move(invalid), std::move(*object_poses), std::move(*status),
+        std::move(*waitset), save_request));
 }
 
 SlamNode::SlamNode(const config::SlamServiceConfig& config, const slam::SystemConfig& system_config,
@@ -90,6 +93,7 @@ SlamNode::SlamNode(const config::SlamServiceConfig& config, const slam::SystemCo
                    std::optional<dds::Reader<df_msg_GeometricSegments>> geometric,
                    dds::Writer<df_msg_CameraPose> poses,
                    std::optional<dds::Writer<df_msg_ObjectSegments>> invalid,
+                   dds::Writer<df_msg_ObjectPoses> object_poses,
                    dds::Writer<df_msg_StageStatus> status, dds::WaitSet waitset,
                    std::atomic<bool>* save_request)
     : config_(config),
@@ -99,6 +103,7 @@ SlamNode::SlamNode(const config::SlamServiceConfig& config, const slam::SystemCo
       geometric_(std::move(geometric)),
       poses_(std::move(poses)),
       invalid_(std::move(invalid)),
+      object_poses_(std::move(object_poses)),
       status_(std::move(status)),
       waitset_(std::move(waitset)),
       join_(2, static_cast<int64_t>(config.segments_deadline_ms() * 1e6),
@@ -297,6 +302,7 @@ void SlamNode::handle(const io::RgbdImage& image, const df_msg_Header& header,
     pose.residual = t.icp_rmse_m;
     if (Status s = poses_.write_copy(pose); !s) log::warn("seq=", header.seq, " ", s.message());
     publish_invalid(pose.header, *report, image.depth.size());
+    publish_objects(pose.header, *report);
 
     df_msg_StageStatus answer{};
     answer.header = pose.header;
@@ -344,6 +350,24 @@ void SlamNode::publish_invalid(const df_msg_Header& header, const slam::FrameRep
     (*loan)->header.status = df_msg_FRAME_OK;
     if (Status s = invalid_->write(std::move(*loan)); !s)
         log::warn("seq=", header.seq, " ", s.message());
+}
+
+void SlamNode::publish_objects(const df_msg_Header& header, const slam::FrameReport& report) {
+    df_msg_ObjectPoses m{};
+    m.header = header;
+    for (const objects::ObjectReport& r : report.objects) {
+        if (m.count >= df_msg_MAX_OBJECTS) break;
+        df_msg_ObjectPose& o = m.objects[m.count++];
+        o.object_id = static_cast<uint32_t>(r.id);
+        o.class_id = r.class_id;
+        o.kind = df_msg_OBJECT_RIGID;
+        o.world_T_object = to_msg(r.world_T_object);
+        o.visible = r.pixels > 0;
+        o.tracked = r.tracked;
+        o.surfel_count = static_cast<uint32_t>(r.surfels);
+    }
+    if (Status s = object_poses_.write_copy(m); !s)
+        log::warn("seq=", header.seq, " object_poses: ", s.message());
 }
 
 Status SlamNode::take_inputs(size_t* frames_taken) {

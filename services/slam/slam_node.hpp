@@ -2,7 +2,8 @@
 /// The SLAM service's adapter: <ns>/frames, <ns>/object_segments and <ns>/geometric_segments in,
 /// joined by sequence number (sync::CompanionJoin: a frame waits at most segments_deadline_ms for
 /// its segments, then is tracked with motion segmentation alone); per frame <ns>/camera_pose
-/// (pose, tracking state, figures), <ns>/invalid_mask (what was left out of the static map) and
+/// (pose, tracking state, figures), <ns>/object_poses (every object map's pose),
+/// <ns>/invalid_mask (what was left out of the static map) and
 /// <ns>/stage_status (stage timings, also capture's lockstep answer) out. Writes
 /// trajectory, map, timings and summary when the stream ends, on SIGUSR1, and at stop; appends
 /// each tracked pose to trajectory.txt as it goes and checkpoints its state every checkpoint_s.
@@ -53,6 +54,7 @@ class SlamNode {
              std::optional<dds::Reader<df_msg_GeometricSegments>> geometric,
              dds::Writer<df_msg_CameraPose> poses,
              std::optional<dds::Writer<df_msg_ObjectSegments>> invalid,
+             dds::Writer<df_msg_ObjectPoses> object_poses,
              dds::Writer<df_msg_StageStatus> status, dds::WaitSet waitset,
              std::atomic<bool>* save_request);
     /// Takes what arrived on the three inputs into the join; false when the reader failed.
@@ -63,6 +65,8 @@ class SlamNode {
                 const dynamics::FrameSegments& segments, const std::string& segments_note);
     void publish_invalid(const df_msg_Header& header, const slam::FrameReport& report,
                          cv::Size frame_size);
+    /// <ns>/object_poses: every live object map's pose, whether it was seen and tracked.
+    void publish_objects(const df_msg_Header& header, const slam::FrameReport& report);
     /// Answers a frame that was not processed (skipped to stay current, or failed).
     void answer_unprocessed(const df_msg_Header& header, df_msg_FrameStatus status);
     Status start_stream();
@@ -82,6 +86,7 @@ class SlamNode {
     std::optional<dds::Reader<df_msg_GeometricSegments>> geometric_;
     dds::Writer<df_msg_CameraPose> poses_;
     std::optional<dds::Writer<df_msg_ObjectSegments>> invalid_;
+    dds::Writer<df_msg_ObjectPoses> object_poses_;
     dds::Writer<df_msg_StageStatus> status_;
     dds::WaitSet waitset_;
     dds::RejectLog rejects_;  ///< samples that failed their check

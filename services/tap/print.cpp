@@ -132,6 +132,7 @@ std::string print_sample(const dds::TypeInfo& type, const void* sample, int max_
             o << "  - object_id: " << ob.object_id << "\n    class_id: " << ob.class_id
               << "\n    kind: " << kind_name(ob.kind)
               << "\n    visible: " << (ob.visible ? "true" : "false")
+              << "\n    tracked: " << (ob.tracked ? "true" : "false")
               << "\n    surfels: " << ob.surfel_count << "\n    world_T_object:\n";
             pose(o, "      ", ob.world_T_object);
         }

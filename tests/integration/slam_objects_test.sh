@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# Object maps in the SLAM service: generated room4 (a car drives through the room) behind the
+# segmentation services (SIMULATED detector) in lockstep over shared memory. SLAM publishes
+# object_poses for every frame; the car gets one object map of class car that is tracked, and
+# the run's objects.json and objects/<id>.txt hold it.
+source "$(dirname "$0")/lib.sh"
+roudi_running || fail "no RouDi: run through ctest (fixture roudi)"
+N=30
+"$BIN/df_make_sequence" --preset room4 --out "$TMP/seq" --frames $N --no-models >/dev/null 2>&1 \
+  || fail "df_make_sequence failed"
+"$BIN/df_tap" echo "$NS/object_poses" -n $N --items 8 --depth 64 >"$TMP/echo.out" 2>"$TMP/echo.err" &
+echo_pid=$!; pids+=($echo_pid)
+"$BIN/df_geoseg" --set "dds { ns: \"$NS\" }" >"$TMP/geoseg.log" 2>&1 &
+pids+=($!)
+"$BIN/df_detector" --set "dds { ns: \"$NS\" }" --set 'model: "simulated"' \
+  --set "sim_sequence: \"$TMP/seq\"" >"$TMP/detector.log" 2>&1 &
+pids+=($!)
+"$BIN/df_fusion" --set "dds { ns: \"$NS\" }" >"$TMP/fusion.log" 2>&1 &
+pids+=($!)
+"$BIN/df_slam" run --set "dds { ns: \"$NS\" }" --set "output { dir: \"$TMP/out\" log_every: 1 }" \
+  --set 'segments_deadline_ms: 2000' >"$TMP/slam.log" 2>&1 &
+slam=$!; pids+=($slam)
+"$BIN/df_capture" "$TMP/seq" --set "dds { ns: \"$NS\" }" --set 'playback: LOCKSTEP' \
+  --set 'lockstep_stages: "slam"' --set 'start_wait_s: 30' --set 'lockstep_timeout_s: 60' \
+  >"$TMP/capture.log" 2>&1 || fail "capture failed: $(tail -3 "$TMP/capture.log")"
+wait $slam || fail "slam failed: $(tail -5 "$TMP/slam.log")"
+timeout 60 bash -c "while kill -0 $echo_pid 2>/dev/null; do sleep 0.2; done" \
+  || fail "object_poses: $(grep -c 'header:' "$TMP/echo.out") of $N messages"
+/usr/bin/python3 - "$TMP/echo.out" "$TMP/out/objects.json" $N <<'PY' || fail "object_poses: $(tail -c 1500 "$TMP/echo.out")"
+import json, re, sys
+text, n = open(sys.argv[1]).read(), int(sys.argv[3])
+msgs = text.split("header:")[1:]
+seqs = sorted(int(re.search(r"\bseq:\s*(\d+)", m).group(1)) for m in msgs)
+assert seqs == list(range(n)), f"object_poses for frames {seqs}"
+tracked = {}
+for m in msgs:
+    for obj in m.split("- object_id:")[1:]:
+        oid = int(obj.split()[0])
+        cls = int(re.search(r"class_id:\s*(-?\d+)", obj).group(1))
+        assert cls == 2, f"object {oid} of class {cls}: room4's only rigid known mover is the car"
+        if re.search(r"tracked:\s*true", obj):
+            tracked[oid] = tracked.get(oid, 0) + 1
+assert len(tracked) == 1, f"one car map expected, tracked: {tracked}"
+(oid, frames), = tracked.items()
+assert frames >= n // 2, f"the car was tracked in {frames} of {n} frames"
+table = json.load(open(sys.argv[2]))["objects"]
+assert [o["id"] for o in table if o["class_name"] == "car"] == [oid], table
+assert sum(1 for _ in open(sys.argv[2].replace("objects.json", table[0]["trajectory"]))) >= frames
+print(f"ok: object {oid} (car) tracked in {frames} of {n} frames; objects.json lists it")
+PY
+pass "object_poses for every frame; the car has one tracked object map"
