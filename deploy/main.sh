@@ -76,7 +76,9 @@ print(f"objects: {len(objects)} object map(s) (objects.json, objects/<id>.txt an
 for o in objects:
     line = (f"  object {o['id']} {o['class_name']}: tracked {o['frames_tracked']} frames "
             f"({o['first_frame']}..{o['last_frame']}), {o['surfels']} surfels, {o['state']}")
-    same = gt.get(o["class_name"], [])
+    # The ground-truth object of its class; the only rigid one when the classes differ (the
+    # detector may call the default data's toy car a truck).
+    same = gt.get(o["class_name"], []) or (sum(gt.values(), []) if len(sum(gt.values(), [])) == 1 else [])
     if world and len(same) == 1 and o["frames_tracked"] >= 2:
         j = os.path.join(out, f"eval_object_{o['id']}.json")
         r = subprocess.run([df_eval, "object", os.path.join(data, same[0]["trajectory"]),

@@ -133,7 +133,8 @@ void SurfelMap::prepare_weights(int width, int height, const io::Intrinsics& int
 
 Result<FusionStats> SurfelMap::carve(const cv::Mat& vertex_map_cam, const cv::Mat& mask,
                                      const Eigen::Isometry3f& world_T_camera,
-                                     const io::Intrinsics& intrinsics, int frame_index) {
+                                     const io::Intrinsics& intrinsics, int frame_index,
+                                     bool keep_stable) {
     DF_RETURN_IF_ERROR(check_image(vertex_map_cam, "vertex map", CV_32FC3, vertex_map_cam.size()));
     if (!mask.empty()) DF_RETURN_IF_ERROR(check_image(mask, "mask", CV_8UC1, vertex_map_cam.size()));
     if (!(intrinsics.fx > 0) || !(intrinsics.fy > 0)) {
@@ -143,7 +144,7 @@ Result<FusionStats> SurfelMap::carve(const cv::Mat& vertex_map_cam, const cv::Ma
     if (config_.remove_free_space) {
         prepare_weights(vertex_map_cam.cols, vertex_map_cam.rows, intrinsics);
         remove_free_space(vertex_map_cam, mask, world_T_camera.inverse(), intrinsics, frame_index,
-                          surfels_.size(), stats);
+                          surfels_.size(), stats, keep_stable);
     }
     stats.removed = clean(frame_index);
     stats.total = surfels_.size();
@@ -328,7 +329,8 @@ Result<FusionStats> SurfelMap::fuse(const cv::Mat& vertex_map_cam, const cv::Mat
 
 void SurfelMap::remove_free_space(const cv::Mat& vertex_map_cam, const cv::Mat& mask,
                                   const Eigen::Isometry3f& camera_T_world, const io::Intrinsics& k,
-                                  int frame_index, size_t existing, FusionStats& stats) {
+                                  int frame_index, size_t existing, FusionStats& stats,
+                                  bool keep_stable) {
     const int width = vertex_map_cam.cols;
     const int height = vertex_map_cam.rows;
     // Measured depth per pixel, 0 where the frame proves nothing (invalid or masked).
@@ -353,7 +355,7 @@ void SurfelMap::remove_free_space(const cv::Mat& vertex_map_cam, const cv::Mat& 
     size_t flagged = 0;
     for (size_t i = 0; i < existing; ++i) {
         Surfel& s = surfels_[i];
-        if (!is_active(s, frame_index)) continue;
+        if (!is_active(s, frame_index) || (keep_stable && is_stable(s))) continue;
         const Eigen::Vector3f p = rotation * s.position + translation;
         if (!(p.z() > 0.f)) continue;
         const float uf = std::floor(fx * p.x() / p.z() + cx + 0.5f);

@@ -176,9 +176,12 @@ class SurfelMap {
     /// through (SurfelMapConfig::remove_free_space) are weakened or removed, then clean(). For
     /// a map none of the frame's pixels were fused into (an object map whose object moved
     /// away). Inputs as fuse(); `mask` non-zero = the pixel proves nothing.
+    /// `keep_stable`: only unstable surfels go (for a pose that is a guess: a stable model is
+    /// not eroded by it).
     Result<FusionStats> carve(const cv::Mat& vertex_map_cam, const cv::Mat& mask,
                               const Eigen::Isometry3f& world_T_camera,
-                              const io::Intrinsics& intrinsics, int frame_index);
+                              const io::Intrinsics& intrinsics, int frame_index,
+                              bool keep_stable = false);
 
     /// Removes unstable surfels not fused for more than config.unstable_max_unseen_frames
     /// (relative to frame_index); returns how many were removed. Keeps the order of the others.
@@ -239,7 +242,8 @@ class SurfelMap {
     /// saw through (see SurfelMapConfig::remove_free_space); updates stats.
     void remove_free_space(const cv::Mat& vertex_map_cam, const cv::Mat& mask,
                            const Eigen::Isometry3f& camera_T_world, const io::Intrinsics& k,
-                           int frame_index, size_t existing, FusionStats& stats);
+                           int frame_index, size_t existing, FusionStats& stats,
+                           bool keep_stable = false);
 
     SurfelMapConfig config_;
     std::vector<Surfel> surfels_;

@@ -413,7 +413,9 @@ Status ObjectMaps::map(const slam::Frame& frame, const cv::Mat& rgb,
             // failed on: the map would be carved at a wrong pose. Pixels of persons and
             // unknown movers in front prove nothing either way; they are nearer, never
             // "through".
-            auto carved = o.map.carve(part, cv::Mat(), object_T_camera, map_time);
+            // Untracked, its pose is a guess: the unstable surfels go, the model stays (for
+            // the outputs, and to be found again).
+            auto carved = o.map.carve(part, cv::Mat(), object_T_camera, map_time, !r.tracked);
             if (!carved) return carved.status();
         }
         counters_.surfels_rejected_by_capacity += o.map.map().total_rejected_by_capacity() - before;

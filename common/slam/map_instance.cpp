@@ -52,9 +52,11 @@ Result<map::FusionStats> MapInstance::fuse(const Frame& frame, const cv::Mat& rg
 }
 
 Result<map::FusionStats> MapInstance::carve(const Frame& frame, const cv::Mat& mask,
-                                            const Eigen::Isometry3d& map_T_camera, int map_time) {
+                                            const Eigen::Isometry3d& map_T_camera, int map_time,
+                                            bool keep_stable) {
     const FrameLevel& level = frame.levels[0];
-    return map_.carve(level.vertex, mask, map_T_camera.cast<float>(), level.intrinsics, map_time);
+    return map_.carve(level.vertex, mask, map_T_camera.cast<float>(), level.intrinsics, map_time,
+                      keep_stable);
 }
 
 }  // namespace df::slam

@@ -64,7 +64,8 @@ class MapInstance {
     /// The free-space pass alone (map::SurfelMap::carve) with the camera at map_T_camera: the
     /// surfels the frame's level-0 vertices see through are weakened or removed.
     Result<map::FusionStats> carve(const Frame& frame, const cv::Mat& mask,
-                                   const Eigen::Isometry3d& map_T_camera, int map_time);
+                                   const Eigen::Isometry3d& map_T_camera, int map_time,
+                                   bool keep_stable = false);
 
   private:
     int id_;

@@ -183,3 +183,58 @@ TEST(FreeSpace, SurfelsBehindTheMeasuredSurfaceAreKept) {
 
 }  // namespace
 }  // namespace df::map
+
+namespace df::map {
+namespace {
+
+TEST(FreeSpace, CarvingAloneRemovesWhatTheFrameSeesThroughAndCanSpareTheStable) {
+    // An object map's carve(): the box's map, the box gone, nothing fused.
+    const View with_box =
+        render(Scene{{kWall}, {kBox}}, Eigen::Isometry3f::Identity(), kWidth, kHeight);
+    const View bare_wall =
+        render(Scene{{kWall}, {}}, Eigen::Isometry3f::Identity(), kWidth, kHeight);
+    SurfelMap map;
+    for (int frame = 0; frame < kBoxFrames; ++frame)
+        ASSERT_TRUE(fuse(map, with_box, frame).is_ok());
+    // Two unstable surfels beside the stable box: seen once, at the box's depth.
+    const size_t stable_box = box_surfels(map);
+    SurfelMap unstable_added = map;
+    cv::Mat one_pixel(with_box.vertex.size(), CV_8UC1, cv::Scalar(255));
+    one_pixel(cv::Rect(10, 10, 2, 1)).setTo(0);
+    View near = with_box;
+    near.vertex(cv::Rect(10, 10, 2, 1)).setTo(cv::Vec3f(0.f, 0.f, 0.f));
+    for (int u = 10; u < 12; ++u) {  // 1.3 m along the pixel's ray: in front of the wall
+        const io::Intrinsics k = intrinsics_for(kWidth, kHeight);
+        near.vertex.at<cv::Vec3f>(10, u) = {static_cast<float>((u - k.cx) / k.fx * 1.3),
+                                            static_cast<float>((10 - k.cy) / k.fy * 1.3), 1.3f};
+    }
+    ASSERT_TRUE(fuse(unstable_added, near, kBoxFrames, one_pixel).is_ok());
+    ASSERT_EQ(unstable_added.size(), map.size() + 2);
+
+    // keep_stable: only the two unstable surfels go.
+    auto spared = unstable_added.carve(bare_wall.vertex, {}, Eigen::Isometry3f::Identity(),
+                                       intrinsics_for(kWidth, kHeight), kBoxFrames + 1, true);
+    ASSERT_TRUE(spared.is_ok()) << spared.status().to_string();
+    EXPECT_EQ(spared->removed_free_space, 2u);
+    EXPECT_EQ(spared->weakened_free_space, 0u);
+    EXPECT_EQ(box_surfels(unstable_added), stable_box);
+    // Without it the stable box is weakened, then removed within 30 frames; nothing is created.
+    int frame = kBoxFrames + 1;
+    for (; frame < kBoxFrames + 40 && box_surfels(map) > 0; ++frame) {
+        auto carved = map.carve(bare_wall.vertex, {}, Eigen::Isometry3f::Identity(),
+                                intrinsics_for(kWidth, kHeight), frame);
+        ASSERT_TRUE(carved.is_ok());
+        EXPECT_LE(carved->total, map.size());
+    }
+    EXPECT_EQ(box_surfels(map), 0u);
+    // A mask makes the frame prove nothing.
+    SurfelMap masked = unstable_added;
+    const cv::Mat everything(with_box.vertex.size(), CV_8UC1, cv::Scalar(255));
+    auto none = masked.carve(bare_wall.vertex, everything, Eigen::Isometry3f::Identity(),
+                             intrinsics_for(kWidth, kHeight), kBoxFrames + 1);
+    ASSERT_TRUE(none.is_ok());
+    EXPECT_EQ(none->removed_free_space + none->weakened_free_space, 0u);
+}
+
+}  // namespace
+}  // namespace df::map
