@@ -9,13 +9,6 @@
 namespace df::objects {
 namespace {
 
-io::StampedPose stamped(int64_t sensor_ns, const Eigen::Isometry3d& pose) {
-    io::StampedPose p;
-    p.stamp_s = static_cast<double>(sensor_ns) * 1e-9;
-    p.t = pose.translation();
-    p.q = Eigen::Quaterniond(pose.linear()).normalized();
-    return p;
-}
 
 /// CV_8UC1: 255 where `labels` is not `id` (the pixels left out when tracking or fusing `id`).
 cv::Mat all_but(const cv::Mat& labels, uint16_t id) { return labels != id; }
@@ -251,7 +244,7 @@ Status ObjectMaps::track(const slam::Frame& frame, const dynamics::LabelImage& i
         if (o.frames_lost > 0) o.body_motion = Eigen::Isometry3d::Identity();
         o.frames_lost = 0;
         o.map.set_world_T_map(world_T_object);
-        o.trajectory.push_back(stamped(frame.sensor_ns, world_T_object));
+        o.trajectory.push_back(io::stamped_pose(frame.sensor_ns, world_T_object));
         ++o.frames_tracked;
         r.tracked = true;
         r.world_T_object = world_T_object;
@@ -371,7 +364,7 @@ Status ObjectMaps::create(const slam::Frame& frame, const cv::Mat& rgb,
     const cv::Mat left_out = pixels == 0;
     auto fused = o.map.fuse(frame, rgb, left_out, object_T_camera, map_time, false, prediction_);
     if (!fused) return fused.status();
-    o.trajectory.push_back(stamped(frame.sensor_ns, world_T_object));
+    o.trajectory.push_back(io::stamped_pose(frame.sensor_ns, world_T_object));
     ++o.frames_tracked;
     of->object_ids.setTo(o.id, pixels);
     r.id = o.id;

@@ -14,13 +14,6 @@ double ms_since(std::chrono::steady_clock::time_point start) {
         .count();
 }
 
-io::StampedPose stamped(int64_t sensor_ns, const Eigen::Isometry3d& pose) {
-    io::StampedPose p;
-    p.stamp_s = static_cast<double>(sensor_ns) * 1e-9;
-    p.t = pose.translation();
-    p.q = Eigen::Quaterniond(pose.linear()).normalized();
-    return p;
-}
 
 }  // namespace
 
@@ -364,7 +357,7 @@ void SlamSystem::update_pose(int64_t sensor_ns, FrameReport* report) {
                 orthonormalized(world_T_camera_.inverse() * report->tracking.world_T_camera);
         }
         world_T_camera_ = report->tracking.world_T_camera;
-        trajectory_.push_back(stamped(sensor_ns, world_T_camera_));
+        trajectory_.push_back(io::stamped_pose(sensor_ns, world_T_camera_));
     } else {
         ++lost_frames_;
     }

@@ -4,6 +4,7 @@
 /// rotation from camera to world axes (Hamilton quaternion, stored x y z w in the file).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,15 @@ struct StampedPose {
     Eigen::Vector3d t = Eigen::Vector3d::Zero();            ///< world_t_camera, metres
     Eigen::Quaterniond q = Eigen::Quaterniond::Identity();  ///< world_R_camera, unit norm
 };
+
+/// The pose of a frame stamped `sensor_ns` (nanoseconds) as a trajectory line.
+inline StampedPose stamped_pose(int64_t sensor_ns, const Eigen::Isometry3d& world_T_x) {
+    StampedPose p;
+    p.stamp_s = static_cast<double>(sensor_ns) * 1e-9;
+    p.t = world_T_x.translation();
+    p.q = Eigen::Quaterniond(world_T_x.linear()).normalized();
+    return p;
+}
 
 struct TrajectoryParse {
     std::vector<StampedPose> poses;   ///< in file order; quaternions normalised

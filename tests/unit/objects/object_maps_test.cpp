@@ -18,13 +18,6 @@ namespace {
 
 constexpr int kCarClass = 2;
 
-io::StampedPose stamped(int64_t sensor_ns, const Eigen::Isometry3d& pose) {
-    io::StampedPose p;
-    p.stamp_s = static_cast<double>(sensor_ns) * 1e-9;
-    p.t = pose.translation();
-    p.q = Eigen::Quaterniond(pose.linear());
-    return p;
-}
 
 struct RunResult {
     std::vector<io::StampedPose> camera_gt, car_gt;
@@ -53,9 +46,9 @@ RunResult run(int frames, const SystemConfig& config, const std::function<bool(i
         test::SimFrame f = test::render_sim_frame(s, i);
         const bool hide = hidden && hidden(i);
         if (hide) f.image.depth.setTo(0, truth.instance == static_cast<int>(car + 1));
-        r.camera_gt.push_back(stamped(f.image.sensor_ns, f.world_T_camera));
+        r.camera_gt.push_back(io::stamped_pose(f.image.sensor_ns, f.world_T_camera));
         r.car_gt.push_back(
-            stamped(f.image.sensor_ns, sim::frame_state(s, i).objects[car].world_T_object));
+            io::stamped_pose(f.image.sensor_ns, sim::frame_state(s, i).objects[car].world_T_object));
         auto geometric = seg::segment_depth(f.image, segmenter);
         EXPECT_TRUE(geometric.is_ok()) << geometric.status().message();
         std::vector<detect::Detection> boxes;
