@@ -26,6 +26,35 @@ std::string validate(const AssociationConfig& c) {
     return "";
 }
 
+std::vector<uint16_t> explained_by_background(const dynamics::LabelImage& instances,
+                                              const Association& association,
+                                              const cv::Mat& depth_m,
+                                              const cv::Mat& background_depth_m, float fraction,
+                                              const AssociationConfig& config) {
+    std::vector<uint16_t> out;
+    if (association.unmatched_rigid.empty() || instances.labels.empty() ||
+        background_depth_m.size() != depth_m.size() || instances.labels.size() != depth_m.size())
+        return out;
+    std::map<uint16_t, std::pair<int, int>> counts;  // id -> (with depth, explained)
+    for (uint16_t id : association.unmatched_rigid) counts[id] = {0, 0};
+    for (int v = 0; v < depth_m.rows; ++v) {
+        const uint16_t* l = instances.labels.ptr<uint16_t>(v);
+        const float* d = depth_m.ptr<float>(v);
+        const float* b = background_depth_m.ptr<float>(v);
+        for (int u = 0; u < depth_m.cols; ++u) {
+            if (l[u] == 0 || !(d[u] > 0.f)) continue;
+            auto it = counts.find(l[u]);
+            if (it == counts.end()) continue;
+            ++it->second.first;
+            if (agrees_with_background(d[u], b[u], config)) ++it->second.second;
+        }
+    }
+    for (const auto& [id, c] : counts)
+        if (c.first > 0 && static_cast<float>(c.second) >= fraction * static_cast<float>(c.first))
+            out.push_back(id);
+    return out;
+}
+
 float box_iou(const cv::Rect2f& a, const cv::Rect2f& b) {
     if (a.area() <= 0.f || b.area() <= 0.f) return 0.f;
     const float inter = (a & b).area();

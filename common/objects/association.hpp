@@ -101,6 +101,15 @@ inline bool agrees_with_background(float measured, float rendered, const Associa
                         c.background_tolerance_per_m2);
 }
 
+/// The ids of the rigid instances of `instances` that `association` left unmatched and whose
+/// pixels with a depth the background's rendering explains (agrees_with_background) for at
+/// least `fraction` of them: furniture that stands where the static map has it.
+std::vector<uint16_t> explained_by_background(const dynamics::LabelImage& instances,
+                                              const Association& association,
+                                              const cv::Mat& depth_m,
+                                              const cv::Mat& background_depth_m, float fraction,
+                                              const AssociationConfig& config);
+
 /// Intersection over union of two boxes (0 when either is empty).
 float box_iou(const cv::Rect2f& a, const cv::Rect2f& b);
 

@@ -9,7 +9,6 @@
 namespace df::objects {
 namespace {
 
-
 /// CV_8UC1: 255 where `labels` is not `id` (the pixels left out when tracking or fusing `id`).
 cv::Mat all_but(const cv::Mat& labels, uint16_t id) { return labels != id; }
 
@@ -83,6 +82,8 @@ std::string validate(const ObjectMapsConfig& c) {
     if (c.min_track_pixels < 1) return "objects.min_track_pixels must be >= 1";
     if (c.max_surfels < 1) return "objects.max_surfels must be >= 1";
     if (c.fuse_erode_px < 0 || c.fuse_erode_px > 16) return "objects.fuse_erode_px must be 0..16";
+    if (!(c.static_explained_fraction >= 0.f && c.static_explained_fraction <= 1.f))
+        return "objects.static_explained_fraction must be in [0, 1]";
     return "";
 }
 

@@ -59,6 +59,11 @@ struct ObjectMapsConfig {
     int min_track_pixels = 150;
     /// Surfels per object map at most (the map's capacity; creation past it is counted).
     size_t max_surfels = 200'000;
+    /// A rigid instance that no map matched and whose depth the static map explains for at
+    /// least this fraction of its pixels is furniture standing where the static map has it: it
+    /// stays in the static map (tracked and fused) and makes no object map. 1: never (rigid
+    /// instances are then left out as `invalid.rigid` says).
+    float static_explained_fraction = 0.5f;
     /// An instance's mask is eroded by this many pixels before its pixels are fused into its
     /// map (box-and-segment fusion is least sure at the outline, where the floor meets it).
     int fuse_erode_px = 0;

@@ -259,6 +259,9 @@ std::vector<Parameter> parameters(SystemConfig* c) {
         {"objects.min_track_pixels", "an object is tracked only with this many pixels",
          &o.min_track_pixels},
         {"objects.max_surfels", "surfels per object map at most", &o.max_surfels},
+        {"objects.static_explained_fraction",
+         "a rigid instance the static map explains this much of stays in it (1 never)",
+         &o.static_explained_fraction},
         {"objects.fuse_erode_px", "an instance's mask shrinks this much before it is fused",
          &o.fuse_erode_px},
     };

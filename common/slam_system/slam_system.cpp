@@ -220,10 +220,22 @@ Status SlamSystem::predict_objects(const Eigen::Isometry3d& guess, Input* in,
                                    FrameReport* report) {
     if (!config_.objects.enabled || !config_.dynamics.use_segments) return Status::ok();
     const auto t = std::chrono::steady_clock::now();
+    const cv::Mat background = static_depth();
     auto objects = objects_.predict_and_associate(in->frame, in->segments.objects, guess,
-                                                  map_time_, static_depth());
+                                                  map_time_, background);
     if (!objects) return objects.status();
     in->objects = std::move(objects).value();
+    // Furniture the static map already holds where it stands stays in it: leaving it out would
+    // leave a hole that the next frame, whose detector misses it, shows as a mover.
+    const objects::ObjectMapsConfig& c = config_.objects;
+    if (c.static_explained_fraction < 1.f) {
+        for (uint16_t id : objects::explained_by_background(
+                 in->segments.objects, in->objects.association, in->frame.levels[0].depth_m,
+                 background, c.static_explained_fraction, c.association)) {
+            in->instance_ids.setTo(0, in->instance_ids == id);
+        }
+        in->instances = in->instance_ids != 0;
+    }
     // What the object maps claim stays out of the static map, as rigid instances: one row per
     // object for the pixels no instance of the frame left out already.
     int next = 1;
