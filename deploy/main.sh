@@ -76,9 +76,12 @@ print(f"objects: {len(objects)} object map(s) (objects.json, objects/<id>.txt an
 for o in objects:
     line = (f"  object {o['id']} {o['class_name']}: tracked {o['frames_tracked']} frames "
             f"({o['first_frame']}..{o['last_frame']}), {o['surfels']} surfels, {o['state']}")
-    # The ground-truth object of its class; the only rigid one when the classes differ (the
-    # detector may call the default data's toy car a truck).
-    same = gt.get(o["class_name"], []) or (sum(gt.values(), []) if len(sum(gt.values(), [])) == 1 else [])
+    # The ground-truth object of its class, or of its COCO supercategory for vehicles (the
+    # detector calls the default data's toy car a truck as often as a car).
+    vehicles = {"bicycle", "car", "motorbike", "aeroplane", "bus", "train", "truck", "boat"}
+    same = gt.get(o["class_name"], [])
+    if not same and o["class_name"] in vehicles:
+        same = [i for c, l in gt.items() if c in vehicles for i in l]
     if world and len(same) == 1 and o["frames_tracked"] >= 2:
         j = os.path.join(out, f"eval_object_{o['id']}.json")
         r = subprocess.run([df_eval, "object", os.path.join(data, same[0]["trajectory"]),
