@@ -3,6 +3,7 @@
 /// Views alias the sample's memory (valid while the sample is): no copy. Reading conversions
 /// take only samples that passed check_sample() (dds::Checked), so that a sample whose header
 /// claims more pixels than its buffer holds can never be viewed or copied.
+#include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
 #include "dds/sample_check.hpp"
@@ -39,5 +40,12 @@ dynamics::LabelImage to_label_image(const Checked<df_msg_ObjectSegments>& segmen
 /// most MAX_INSTANCES rows of its table (the rest dropped, counted in the return value).
 size_t fill_object_segments(const dynamics::LabelImage& labels, const df_msg_Header& header,
                             df_msg_ObjectSegments* out);
+
+/// A pose (world_T_x) as the topics carry it: translation in metres and a unit quaternion.
+inline df_msg_Pose to_pose_msg(const Eigen::Isometry3d& pose) {
+    const Eigen::Quaterniond q(pose.linear());
+    return df_msg_Pose{pose.translation().x(), pose.translation().y(), pose.translation().z(),
+                       q.x(), q.y(), q.z(), q.w()};
+}
 
 }  // namespace df::dds
