@@ -18,13 +18,14 @@ if [ "${DF_SANITIZERS:-1}" != 0 ]; then
       "-DCMAKE_C_FLAGS_RELEASE=-O1 -gline-tables-only" \
       -DDF_SANITIZE=address,undefined -DDF_FUZZ=ON -DDF_BUILD_BENCHMARKS=OFF >/dev/null
   fi
-  # Left out by default, to keep the step inside CI's time: four tests that each render or track
+  # Left out by default, to keep the step inside CI's time: five tests that each render or track
   # whole generated sequences and take 10-15 min under ASan on 2 cores (df_sim_sequence_test,
-  # df_slam_checkpoint_test, df_slam_accuracy_test, df_dynamic_accuracy_test); they run
-  # unsanitized in the suite above, and the same code runs sanitized on shorter inputs in
-  # df_sim_test, df_slam_system_test, df_slam_tracker_test and df_dynamics_test.
-  # DF_ASAN_EXCLUDE='' bash deploy/test.sh runs them too.
-  exclude="${DF_ASAN_EXCLUDE-df_slam_accuracy_test|df_sim_sequence_test|df_slam_checkpoint_test|df_dynamic_accuracy_test}"
+  # df_slam_checkpoint_test, df_slam_accuracy_test, df_dynamic_accuracy_test,
+  # df_object_maps_test); they run unsanitized in the suite above, and the same code runs
+  # sanitized on shorter inputs in df_sim_test, df_slam_system_test, df_slam_tracker_test,
+  # df_dynamics_test and df_object_maps_short_test. DF_ASAN_EXCLUDE='' bash deploy/test.sh runs
+  # them too.
+  exclude="${DF_ASAN_EXCLUDE-df_slam_accuracy_test|df_sim_sequence_test|df_slam_checkpoint_test|df_dynamic_accuracy_test|df_object_maps_test}"
   unit_filter=(-LE "integration|hostile" -E "^roudi_${exclude:+|^($exclude)\$}")
   mapfile -t unit_tests < <(ctest --test-dir "$asan" -N "${unit_filter[@]}" |
     sed -n 's/^ *Test *#[0-9]*: *//p')
