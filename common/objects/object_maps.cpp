@@ -168,7 +168,9 @@ Result<ObjectFrame> ObjectMaps::predict_and_associate(const slam::Frame& frame,
         r.pixels = out.association.pixels_of_view[k];
         r.silhouette_pixels = out.association.silhouette_pixels_of_view[k];
         r.instance = out.association.instance_of_view[k];
-        r.world_T_object = o.map.world_T_map();
+        // Its last tracked pose (the map's own may have been moved on by dead reckoning).
+        r.world_T_object =
+            o.trajectory.empty() ? o.map.world_T_map() : io::isometry_of(o.trajectory.back());
         out.reports.push_back(r);
     }
     return out;

@@ -28,6 +28,14 @@ inline StampedPose stamped_pose(int64_t sensor_ns, const Eigen::Isometry3d& worl
     return p;
 }
 
+/// A trajectory line as world_T_x.
+inline Eigen::Isometry3d isometry_of(const StampedPose& p) {
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = p.q.normalized().toRotationMatrix();
+    pose.translation() = p.t;
+    return pose;
+}
+
 struct TrajectoryParse {
     std::vector<StampedPose> poses;   ///< in file order; quaternions normalised
     std::vector<std::string> errors;  ///< "<file>:<line>: <what was expected, what was found>"
