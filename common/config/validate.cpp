@@ -13,9 +13,6 @@
 
 namespace df::config {
 
-/// What one value of the field allows (allowed_text without "each" for repeated fields).
-std::string rule_text(const google::protobuf::FieldDescriptor* f);
-
 namespace {
 
 using google::protobuf::Descriptor;

@@ -23,6 +23,9 @@ Status check_fields(const google::protobuf::Message& message, const std::string&
 /// "finite"; "" when there is no rule (booleans, enums, unconstrained integers and strings).
 std::string allowed_text(const google::protobuf::FieldDescriptor* field);
 
+/// What one value of the field allows (allowed_text without "each" for repeated fields).
+std::string rule_text(const google::protobuf::FieldDescriptor* field);
+
 /// The declared unit of a field ("" when none).
 std::string unit_of(const google::protobuf::FieldDescriptor* field);
 

@@ -8,17 +8,7 @@
 
 namespace df::dynamics {
 
-std::string validate(const InstanceMemoryConfig& c) {
-    if (c.frames < 0 || c.frames > 65000)
-        return "frames must be in 0..65000, got " + std::to_string(c.frames);
-    if (!(c.max_depth_difference_m >= 0.f) || !std::isfinite(c.max_depth_difference_m))
-        return "max_depth_difference_m must be finite and >= 0, got " +
-               std::to_string(c.max_depth_difference_m);
-    if (!(c.max_depth_difference_per_m2 >= 0.f) || !std::isfinite(c.max_depth_difference_per_m2))
-        return "max_depth_difference_per_m2 must be finite and >= 0, got " +
-               std::to_string(c.max_depth_difference_per_m2);
-    return "";
-}
+std::string validate(const InstanceMemoryConfig& c) { return params::check(c); }
 
 cv::Mat InstanceMemory::recall(const cv::Mat& vertex, const Eigen::Isometry3f& previous_T_current,
                                float fx, float fy, float cx, float cy,

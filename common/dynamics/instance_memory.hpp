@@ -13,17 +13,13 @@
 #include <opencv2/core.hpp>
 #include <string>
 
+#include "params/slam_params.hpp"
+
 namespace df::dynamics {
 
-struct InstanceMemoryConfig {
-    /// A rigid instance pixel is remembered this many frames after its last detection (frames;
-    /// 0 = off, the default: on generated room4 it lost tracking, see docs/dynamics.md).
-    int frames = 0;
-    /// ... while the frame's depth there stays within this of the remembered depth, plus
-    /// max_depth_difference_per_m2 z^2 (metres; z the depth).
-    float max_depth_difference_m = 0.03f;
-    float max_depth_difference_per_m2 = 0.005f;
-};
+/// Its fields (defaults, ranges, units, meanings) are declared once, in
+/// common/config/slam.proto (SlamParams.Memory), and generated into params/slam_params.hpp.
+using InstanceMemoryConfig = params::slam::Memory;
 
 std::string validate(const InstanceMemoryConfig& config);
 

@@ -7,16 +7,7 @@
 
 namespace df::dynamics {
 
-std::string validate(const InvalidMaskConfig& c) {
-    std::ostringstream msg;
-    if (c.instance_dilate_px < 0 || c.instance_dilate_px > 32)
-        msg << "instance_dilate_px must be in 0..32, got " << c.instance_dilate_px;
-    else if (!(c.non_rigid_box_depth_m >= 0))
-        msg << "non_rigid_box_depth_m must be >= 0, got " << c.non_rigid_box_depth_m;
-    else if (!(c.fuse_behind_model_m >= 0))
-        msg << "fuse_behind_model_m must be >= 0, got " << c.fuse_behind_model_m;
-    return msg.str();
-}
+std::string validate(const InvalidMaskConfig& c) { return params::check(c); }
 
 namespace {
 

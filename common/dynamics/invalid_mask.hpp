@@ -8,32 +8,13 @@
 #include <string>
 
 #include "dynamics/frame_segments.hpp"
+#include "params/slam_params.hpp"
 
 namespace df::dynamics {
 
-struct InvalidMaskConfig {
-    /// Leave out the instances of non-rigid classes (persons) ...
-    bool non_rigid = true;
-    /// ... of rigid classes (until object maps track them) ...
-    bool rigid = true;
-    /// ... and the instances of unknown kind the frame came with (ground-truth masks).
-    bool unknown = true;
-    /// Instance masks grow by this many pixels first (their borders are where box-and-segment
-    /// fusion is least sure; a person's outline fused into the map doubles it).
-    int instance_dilate_px = 2;
-    /// A non-rigid instance (a person) also claims the pixels of its detection box whose depth
-    /// lies within its own depth range (5th to 95th percentile of its pixels) widened by this
-    /// (metres): box-and-segment fusion keeps only the segments that fill the box, and a
-    /// person's limbs, folds and hair make many small ones. A non-rigid detection that no
-    /// segment explained (a table row with 0 pixels) claims its box's foreground: depths from
-    /// the nearest tenth of the box's to 0.4 m behind it, widened alike. 0 = off.
-    float non_rigid_box_depth_m = 0.25f;
-    /// Invalid pixels whose depth lies behind the static model by more than this (metres) are
-    /// fused anyway: the frame sees through the model there, so the model's surface is gone (a
-    /// mover that was mapped before it moved, a person the detector missed): fusing lets the
-    /// map's free-space rule clear it instead of keeping a ghost forever. 0 = never.
-    float fuse_behind_model_m = 0.05f;
-};
+/// Its fields (defaults, ranges, units, meanings) are declared once, in
+/// common/config/slam.proto (SlamParams.Invalid), and generated into params/slam_params.hpp.
+using InvalidMaskConfig = params::slam::Invalid;
 
 std::string validate(const InvalidMaskConfig& config);
 

@@ -38,35 +38,7 @@ std::string check_inputs(const MotionInput& in) {
 
 }  // namespace
 
-std::string validate(const MotionSegmentationConfig& c) {
-    std::ostringstream msg;
-    const auto positive = [&msg](const char* name, double v) {
-        if (msg.str().empty() && !(v > 0)) msg << name << " must be > 0, got " << v;
-    };
-    const auto fraction = [&msg](const char* name, double v) {
-        if (msg.str().empty() && !(v >= 0 && v <= 1))
-            msg << name << " must be in [0, 1], got " << v;
-    };
-    positive("max_residual_m", c.max_residual_m);
-    positive("min_residual_m", c.min_residual_m);
-    if (msg.str().empty() && !(c.min_residual_per_m2 >= 0))
-        msg << "min_residual_per_m2 must be >= 0, got " << c.min_residual_per_m2;
-    if (msg.str().empty() && !(c.min_centroid_gap_m >= 0))
-        msg << "min_centroid_gap_m must be >= 0, got " << c.min_centroid_gap_m;
-    fraction("min_dynamic_fraction", c.min_dynamic_fraction);
-    fraction("min_segment_fraction", c.min_segment_fraction);
-    fraction("carried_segment_fraction", c.carried_segment_fraction);
-    fraction("carry_min_overlap", c.carry_min_overlap);
-    if (msg.str().empty() && c.min_segment_pixels < 1)
-        msg << "min_segment_pixels must be >= 1, got " << c.min_segment_pixels;
-    if (msg.str().empty() && c.min_region_pixels < 1)
-        msg << "min_region_pixels must be >= 1, got " << c.min_region_pixels;
-    if (msg.str().empty() && !(c.min_photometric >= 0 && c.min_photometric <= 255))
-        msg << "min_photometric must be in [0, 255], got " << c.min_photometric;
-    if (msg.str().empty() && (c.dilate_px < 0 || c.dilate_px > 32))
-        msg << "dilate_px must be in 0..32, got " << c.dilate_px;
-    return msg.str();
-}
+std::string validate(const MotionSegmentationConfig& c) { return params::check(c); }
 
 Result<MotionResult> segment_motion(const MotionInput& in, const MotionSegmentationConfig& c) {
     if (std::string e = validate(c); !e.empty())

@@ -21,41 +21,14 @@
 
 #include "core/status.hpp"
 #include "dynamics/two_means.hpp"
+#include "params/slam_params.hpp"
 
 namespace df::dynamics {
 
 /// Every threshold (units in the names).
-struct MotionSegmentationConfig {
-    /// Residuals are clipped to this before clustering (metres): everything farther is "far".
-    float max_residual_m = 0.20f;
-    /// A pixel is dynamic only when its residual exceeds min_residual_m + min_residual_per_m2 z^2
-    /// (metres; z the pixel's depth): sensor noise and small pose errors stay static.
-    float min_residual_m = 0.03f;
-    float min_residual_per_m2 = 0.005f;
-    /// No motion when the two centroids are closer than this (metres).
-    float min_centroid_gap_m = 0.02f;
-    /// No motion when fewer than this fraction of the pixels with a residual are dynamic.
-    float min_dynamic_fraction = 0.002f;
-    /// A geometric segment becomes dynamic when at least this fraction of its pixels that have a
-    /// residual are dynamic ...
-    float min_segment_fraction = 0.4f;
-    /// ... or this lower fraction when the segment overlaps the carried-forward mask by at least
-    /// carry_min_overlap of its pixels.
-    float carried_segment_fraction = 0.15f;
-    float carry_min_overlap = 0.3f;
-    /// ... and it has at least this many dynamic pixels.
-    int min_segment_pixels = 30;
-    /// Without geometric segments, connected regions of dynamic pixels of at least this size
-    /// are kept (pixels).
-    int min_region_pixels = 60;
-    /// The final mask grows by this many pixels (covers the segment edges that have no label).
-    int dilate_px = 2;
-    /// Photometric evidence: a pixel whose geometry agrees with the model but whose intensity
-    /// differs from the model's by more than this (0..255) counts as dynamic evidence for its
-    /// segment (a textured object that rolls or turns in place keeps its shape); it never
-    /// makes a pixel dynamic on its own outside a segment that passes. 0 = off.
-    float min_photometric = 30.f;
-};
+/// Its fields (defaults, ranges, units, meanings) are declared once, in
+/// common/config/slam.proto (SlamParams.Motion), and generated into params/slam_params.hpp.
+using MotionSegmentationConfig = params::slam::Motion;
 
 /// Empty when usable, else the bad field and its value.
 std::string validate(const MotionSegmentationConfig& config);

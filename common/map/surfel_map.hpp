@@ -18,6 +18,7 @@
 
 #include "core/status.hpp"
 #include "io/rgbd_image.hpp"
+#include "params/slam_params.hpp"
 
 namespace df::map {
 
@@ -33,59 +34,9 @@ struct Surfel {
 };
 
 /// Fusion parameters; defaults are those of ElasticFusion (FACTS.md §5).
-struct SurfelMapConfig {
-    /// A surfel is stable once its confidence reaches this value (sum of observation weights).
-    float stable_confidence = 10.f;
-    /// Weight of an observation at normalised radius r: exp(-r^2 / (2 sigma^2)), where r is the
-    /// pixel's distance to the principal point divided by half the image diagonal (r = d / 400
-    /// for 640x480, r = 1 at the corners of a centred image). sigma = 0.6 gives exp(-r^2/0.72).
-    float confidence_sigma = 0.6f;
-    /// Association gates: |surfel depth - measured depth| along the camera z axis, metres, and
-    /// the angle between the surfel normal and the measured normal (both in the world frame),
-    /// radians.
-    float max_depth_difference_m = 0.05f;
-    float max_normal_angle_rad = 0.5f;
-    /// An associated observation changes the surfel's geometry only when its radius is below
-    /// this factor times the surfel's radius; otherwise only the confidence and the time grow.
-    float merge_radius_factor = 1.5f;
-    /// Radius of a new observation: z / f * sqrt(2) / max(|n_z|, min_abs_normal_z), with f the
-    /// mean focal length and n_z the camera-frame normal's z. The floor 0.2 bounds the radius of
-    /// grazing observations at 5x that of a fronto-parallel one.
-    float min_abs_normal_z = 0.2f;
-    /// Unstable surfels (confidence < stable_confidence) not fused for more than this many
-    /// frames (frame - last_seen_frame) are removed by clean(), as ElasticFusion does.
-    int unstable_max_unseen_frames = 20;
-    /// Fusion association searches the (2 w + 1)^2 pixels of the index image around each pixel
-    /// for a surfel within the gates (ElasticFusion: a window of its 4x super-sampled index
-    /// map). 0 = the pixel's own surfel only.
-    int association_window_px = 1;
-    /// Surfels not seen for more than this many frames are inactive: they are not projected for
-    /// association (they stay in the map for loop closure and export).
-    int active_time_window_frames = 200;
-    /// Capacity. When full, observations that would create a surfel are dropped and counted
-    /// (FusionStats::rejected_by_capacity, SurfelMap::total_rejected_by_capacity()); fusion
-    /// into existing surfels and removal go on, so space frees up as unstable surfels age out.
-    size_t max_surfels = 2'000'000;
-
-    /// Free-space violations (ElasticFusion): after fusion, an active surfel whose centre
-    /// projects onto a pixel with measured depth d, at camera depth z < d - margin, lies where
-    /// the frame saw through it. margin = max(free_space_margin_m,
-    /// free_space_margin_per_m2 * z^2) + surfel radius (sensor noise grows with z^2; the disc
-    /// itself spans up to its radius along the ray). The evidence counts only if every pixel of
-    /// the (2 free_space_window_px + 1)^2 window around the projected pixel has a valid,
-    /// unmasked depth that also passes the test, so surfels next to depth discontinuities, at
-    /// mask borders or on silhouettes (1-2 px of pose error) are left alone.
-    /// Rule: an unstable surfel is removed; a stable one loses free_space_penalty times the
-    /// observation weight of that pixel from its confidence (the weight fusion would have
-    /// added), so it turns unstable after (confidence - stable_confidence) / (penalty * weight)
-    /// such frames; then clean() removes it if it is older than unstable_max_age_frames, else
-    /// the next violation does. Surfels created by this frame are not tested.
-    bool remove_free_space = true;
-    float free_space_margin_m = 0.05f;       ///< metres; the depth association gate
-    float free_space_margin_per_m2 = 0.01f;  ///< 1/metres: 4 cm at 2 m, 9 cm at 3 m
-    int free_space_window_px = 2;            ///< window half-size, pixels (0: the pixel only)
-    float free_space_penalty = 1.f;          ///< confidence lost per unit observation weight
-};
+/// Its fields (defaults, ranges, units, meanings) are declared once, in
+/// common/config/slam.proto (SlamParams.Map), and generated into params/slam_params.hpp.
+using SurfelMapConfig = params::slam::Map;
 
 /// What the map looks like from a camera (SurfelMap::predict). All images width x height.
 struct ModelPrediction {
@@ -97,35 +48,12 @@ struct ModelPrediction {
 };
 
 /// How SurfelMap::predict renders.
-struct PredictionConfig {
-    /// Surfels with confidence below this are not rendered (e.g. stable_confidence for
-    /// tracking against the stable model only).
+/// Its fields (defaults, ranges, units, meanings) are declared once, in
+/// common/config/slam.proto (SlamParams.Prediction), and generated into params/slam_params.hpp.
+struct PredictionConfig : params::slam::Prediction {
+    /// Only surfels with at least this confidence are rendered (0 = every surfel). Not a
+    /// parameter: the system sets it (system.predict_min_confidence; 0 for object maps).
     float min_confidence = 0.f;
-    /// Surfels whose camera-frame depth (centre z) exceeds this, metres, are not rendered;
-    /// 0 = no limit.
-    float max_depth_m = 0.f;
-    /// true: each surfel covers the pixels whose ray meets its disc (z-buffered) and the vertex
-    /// is that ray's intersection with the surfel's plane, so a plane predicts exact plane
-    /// depth without holes. false: one pixel per surfel (its centre's), the vertex is the
-    /// surfel centre; faster, with holes when the map is seen from nearer than it was fused.
-    /// The index image of the unsplatted prediction suits fuse()'s association best (one
-    /// surfel per pixel, as ElasticFusion's index map).
-    bool splat = true;
-    /// Bound of a surfel's footprint, pixels (projected radius = radius * f / z, clamped to
-    /// this; the centre pixel is always covered). 0..64.
-    float max_splat_radius_px = 2.f;
-    /// A pixel whose ray meets the surfel at |cos(angle between ray and normal)| below this
-    /// is not covered (grazing intersections give unreliable depth). 0..1.
-    float min_cos_incidence = 0.1f;
-    /// Splat mode: discs whose depth at a pixel lies within layer_tolerance_m +
-    /// layer_tolerance_per_m2 * z^2 of the pixel's front-most disc belong to one surface layer,
-    /// and the pixel takes the one it is nearest the centre of (the surfel it belongs to) rather
-    /// than the nearest to the camera; discs further in front than that occlude. Metres, 1/m.
-    float layer_tolerance_m = 0.01f;
-    float layer_tolerance_per_m2 = 0.005f;
-    /// Worker threads (0 = all hardware threads); each draws one horizontal band of rows and
-    /// reads the whole map. The output does not depend on it.
-    int threads = 0;
 };
 
 /// What one call of fuse() did.

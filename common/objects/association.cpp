@@ -7,24 +7,7 @@
 
 namespace df::objects {
 
-std::string validate(const AssociationConfig& c) {
-    if (!(c.min_overlap > 0.f && c.min_overlap <= 1.f))
-        return "objects.match_min_overlap must be in (0, 1], got " + std::to_string(c.min_overlap);
-    if (!(c.depth_tolerance_m >= 0.f && c.depth_tolerance_m <= 1.f))
-        return "objects.depth_tolerance_m must be in [0, 1], got " +
-               std::to_string(c.depth_tolerance_m);
-    if (!(c.depth_tolerance_per_m2 >= 0.f && c.depth_tolerance_per_m2 <= 1.f))
-        return "objects.depth_tolerance_per_m2 must be in [0, 1], got " +
-               std::to_string(c.depth_tolerance_per_m2);
-    if (!(c.any_class_overlap >= 0.f && c.any_class_overlap <= 1.f))
-        return "objects.any_class_overlap must be in [0, 1]";
-    if (!(c.min_silhouette_fraction >= 0.f && c.min_silhouette_fraction <= 1.f))
-        return "objects.min_silhouette_fraction must be in [0, 1]";
-    if (!(c.background_tolerance_m >= 0.f && c.background_tolerance_m <= 1.f) ||
-        !(c.background_tolerance_per_m2 >= 0.f && c.background_tolerance_per_m2 <= 1.f))
-        return "objects.background_tolerance_m and _per_m2 must be in [0, 1]";
-    return "";
-}
+std::string validate(const AssociationConfig& c) { return params::check(c); }
 
 std::vector<uint16_t> explained_by_background(const dynamics::LabelImage& instances,
                                               const Association& association,

@@ -11,40 +11,13 @@
 #include <vector>
 
 #include "dynamics/frame_segments.hpp"
+#include "params/slam_params.hpp"
 
 namespace df::objects {
 
-struct AssociationConfig {
-    /// A rigid instance matches an object map when at least this fraction of its pixels lie in
-    /// the map's rendered silhouette (MaskFusion: 5 % of the mask; higher here, since our
-    /// instances are box-and-segment fusions whose outlines are good) ...
-    float min_overlap = 0.3f;
-    /// ... and their classes agree (false: any class) ...
-    bool class_must_agree = true;
-    /// ... unless at least this fraction of the instance lies in the silhouette: the same
-    /// surface, which a detector may name car in one frame and truck in the next (1: never).
-    float any_class_overlap = 0.6f;
-    /// A silhouette pixel of a map that no instance claims is the map's when the frame's depth
-    /// there is within this of the rendered depth (metres) plus depth_tolerance_per_m2 z^2.
-    float depth_tolerance_m = 0.03f;
-    float depth_tolerance_per_m2 = 0.01f;
-    /// Whether a map with a matched instance also claims its depth-agreeing silhouette pixels.
-    /// false: only maps the detector missed this frame do (the silhouette of a map that took
-    /// in a little floor at its feet agrees with the floor, and the floor's static texture
-    /// would hold the object back when it moves).
-    bool silhouette_when_matched = false;
-    /// A map the detector missed keeps its silhouette's pixels only when the frame agrees with
-    /// at least this fraction of its rendering (where the frame has depth and no person or
-    /// mover stands before it); else it claims nothing this frame (its object left, or what
-    /// agrees is only the floor at its feet).
-    float min_silhouette_fraction = 0.5f;
-    /// A pixel the static map's rendering explains within this (metres) plus
-    /// background_tolerance_per_m2 z^2 is the background's: a map's silhouette does not claim
-    /// it, and an object does not fuse it. Tighter than depth_tolerance_m, since the lower part
-    /// of an object on the floor is only centimetres in front of the floor behind it.
-    float background_tolerance_m = 0.015f;
-    float background_tolerance_per_m2 = 0.003f;
-};
+/// Its fields (defaults, ranges, units, meanings) are declared once, in
+/// common/config/slam.proto (SlamParams.Objects.Association), and generated into params/slam_params.hpp.
+using AssociationConfig = params::slam::Objects::Association;
 
 std::string validate(const AssociationConfig& config);
 

@@ -65,27 +65,7 @@ cv::Rect2f box_of(const cv::Mat& mask) {
 
 }  // namespace
 
-std::string validate(const ObjectMapsConfig& c) {
-    if (std::string e = validate(c.association); !e.empty()) return e;
-    if (c.min_create_pixels < 1)
-        return "objects.min_create_pixels must be >= 1, got " + std::to_string(c.min_create_pixels);
-    if (c.create_after_frames < 1)
-        return "objects.create_after_frames must be >= 1, got " +
-               std::to_string(c.create_after_frames);
-    if (!(c.candidate_min_iou >= 0.f && c.candidate_min_iou <= 1.f))
-        return "objects.candidate_min_iou must be in [0, 1]";
-    if (c.retire_after_frames < 1) return "objects.retire_after_frames must be >= 1";
-    if (!(c.revive_max_distance_m >= 0.f)) return "objects.revive_max_distance_m must be >= 0";
-    if (c.max_objects < 0 || c.max_objects > 64)
-        return "objects.max_objects must be in [0, 64] (the object_poses topic holds 64)";
-    if (c.min_inliers < 1) return "objects.min_inliers must be >= 1";
-    if (c.min_track_pixels < 1) return "objects.min_track_pixels must be >= 1";
-    if (c.max_surfels < 1) return "objects.max_surfels must be >= 1";
-    if (c.fuse_erode_px < 0 || c.fuse_erode_px > 16) return "objects.fuse_erode_px must be 0..16";
-    if (!(c.static_explained_fraction >= 0.f && c.static_explained_fraction <= 1.f))
-        return "objects.static_explained_fraction must be in [0, 1]";
-    return "";
-}
+std::string validate(const ObjectMapsConfig& c) { return params::check(c); }
 
 const char* to_string(ObjectState state) {
     switch (state) {

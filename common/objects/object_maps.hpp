@@ -30,47 +30,13 @@
 #include "slam/frame.hpp"
 #include "slam/map_instance.hpp"
 #include "slam/tracker.hpp"
+#include "params/slam_params.hpp"
 
 namespace df::objects {
 
-struct ObjectMapsConfig {
-    /// false: no object maps (rigid instances are handled as the invalid mask says).
-    bool enabled = true;
-    AssociationConfig association;
-    /// An unmatched rigid instance creates a map when it has at least this many pixels (at the
-    /// processing resolution) ...
-    int min_create_pixels = 400;
-    /// ... on this many consecutive frames, each sighting's box overlapping the previous one's
-    /// by at least candidate_min_iou (a detector's one-frame false positive makes no map).
-    int create_after_frames = 3;
-    float candidate_min_iou = 0.3f;
-    /// A map that claims no pixel for this many frames is retired: no longer rendered or
-    /// tracked, kept with its model and trajectory for the outputs.
-    int retire_after_frames = 45;
-    /// A new candidate of a retired map's class whose centroid lies within this of the map's
-    /// last centroid revives that map (the object came back into view), metres.
-    float revive_max_distance_m = 0.75f;
-    /// Live maps at most; a creation past it is refused and counted.
-    int max_objects = 16;
-    /// Tracking an object needs fewer inliers than the room: at least this many ICP inliers
-    /// (the room's tracking.min_inliers is for whole frames) ...
-    int min_inliers = 120;
-    /// ... and the claimed pixels must be at least this many for tracking to be tried.
-    int min_track_pixels = 150;
-    /// Surfels per object map at most (the map's capacity; creation past it is counted).
-    size_t max_surfels = 200'000;
-    /// A rigid instance that no map matched and whose depth the static map explains for at
-    /// least this fraction of its pixels is furniture standing where the static map has it: it
-    /// stays in the static map (tracked and fused) and makes no object map. 1: never (rigid
-    /// instances are then left out as `invalid.rigid` says). Off by default: 0.5 takes the
-    /// flagging of generated static_halfsphere with YOLOv5s from 6.1 % to 0 %, but in the main
-    /// job a car the detector missed at first (so the static map took it in) then stayed in the
-    /// static map while it drove off slowly, and dragged the camera (ATE 0.5 -> 64 cm).
-    float static_explained_fraction = 1.f;
-    /// An instance's mask is eroded by this many pixels before its pixels are fused into its
-    /// map (box-and-segment fusion is least sure at the outline, where the floor meets it).
-    int fuse_erode_px = 0;
-};
+/// Its fields (defaults, ranges, units, meanings) are declared once, in
+/// common/config/slam.proto (SlamParams.Objects), and generated into params/slam_params.hpp.
+using ObjectMapsConfig = params::slam::Objects;
 
 std::string validate(const ObjectMapsConfig& config);
 

@@ -10,6 +10,8 @@ Result<GeometricSegmentation> segment_depth(const io::RgbdImage& image,
                                             const FrameSegmenterConfig& config) {
     slam::PreprocessConfig p = config.preprocess;
     p.pyramid_levels = 1;
+    p.max_depth_m = config.geometric.max_depth_m;
+    p.normal_baseline_px = config.geometric.normal_baseline_px;
     Result<slam::Frame> frame = slam::preprocess(image, p);
     if (!frame) return frame.status();
     const slam::FrameLevel& level = frame->levels[0];

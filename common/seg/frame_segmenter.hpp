@@ -16,7 +16,8 @@
 namespace df::seg {
 
 struct FrameSegmenterConfig {
-    /// Depth to vertices and normals (one level: only full resolution is segmented).
+    /// Depth to vertices and normals (one level: only full resolution is segmented; its
+    /// max_depth_m and normal_baseline_px are geometric's).
     slam::PreprocessConfig preprocess = [] {
         slam::PreprocessConfig p;
         p.pyramid_levels = 1;

@@ -136,26 +136,10 @@ void absorb(const cv::Mat& vertex, cv::Mat& labels, float max_dz, int passes) {
 }  // namespace
 
 std::string validate(const GeometricSegmentationConfig& c) {
-    std::ostringstream msg;
-    if (!(c.max_concavity > 0.f && c.max_concavity <= 2.f)) {
-        msg << "max_concavity must be in (0, 2], got " << c.max_concavity;
-    } else if (!(c.max_concavity_per_m2 >= 0.f)) {
-        msg << "max_concavity_per_m2 must be >= 0, got " << c.max_concavity_per_m2;
-    } else if (!(c.max_distance_m > 0.f)) {
-        msg << "max_distance_m must be > 0, got " << c.max_distance_m;
-    } else if (!(c.max_distance_per_m2 >= 0.f)) {
-        msg << "max_distance_per_m2 must be >= 0, got " << c.max_distance_per_m2;
-    } else if (c.min_segment_pixels < 1) {
-        msg << "min_segment_pixels must be >= 1, got " << c.min_segment_pixels;
-    } else if (!(c.absorb_max_depth_difference_m >= 0.f)) {
-        msg << "absorb_max_depth_difference_m must be >= 0, got "
-            << c.absorb_max_depth_difference_m;
-    } else if (c.neighbours != 4 && c.neighbours != 8) {
-        msg << "neighbours must be 4 or 8, got " << c.neighbours;
-    } else if (c.absorb_iterations < 0 || c.absorb_iterations > 16) {
-        msg << "absorb_iterations must be in 0..16, got " << c.absorb_iterations;
-    }
-    return msg.str();
+    if (std::string e = params::check(c); !e.empty()) return e;  // ranges: geoseg.proto
+    if (c.neighbours != 4 && c.neighbours != 8)
+        return "neighbours must be 4 or 8, got " + std::to_string(c.neighbours);
+    return "";
 }
 
 Result<GeometricSegmentation> segment_geometry(const cv::Mat& vertex, const cv::Mat& normal,

@@ -51,22 +51,7 @@ cv::Rect clip_box(const cv::Rect2f& box, cv::Size size) {
 }  // namespace
 
 std::string validate(const InstanceSegmentationConfig& c) {
-    std::ostringstream msg;
-    if (!(c.min_iou > 0.f && c.min_iou <= 1.f)) {
-        msg << "min_iou must be in (0, 1], got " << c.min_iou;
-    } else if (!(c.min_inside_fraction > 0.f)) {
-        msg << "min_inside_fraction must be > 0 (> 1 disables the rule), got "
-            << c.min_inside_fraction;
-    } else if (!(c.max_depth_from_core_m >= 0.f)) {
-        msg << "max_depth_from_core_m must be >= 0, got " << c.max_depth_from_core_m;
-    } else if (!(c.min_core_box_fraction >= 0.f && c.min_core_box_fraction <= 1.f)) {
-        msg << "min_core_box_fraction must be in [0, 1], got " << c.min_core_box_fraction;
-    } else if (!(c.min_fill_fraction > 0.f)) {
-        msg << "min_fill_fraction must be > 0 (> 1 disables the rule), got " << c.min_fill_fraction;
-    } else if (c.min_instance_pixels < 1) {
-        msg << "min_instance_pixels must be >= 1, got " << c.min_instance_pixels;
-    }
-    return msg.str();
+    return params::check(c);  // ranges: fusion.proto
 }
 
 Result<InstanceSegmentation> segment_instances(const cv::Mat& segment_labels, int segment_count,

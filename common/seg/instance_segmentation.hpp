@@ -13,28 +13,13 @@
 
 #include "core/status.hpp"
 #include "detect/detection.hpp"
+#include "params/fusion_params.hpp"
 
 namespace df::seg {
 
-struct InstanceSegmentationConfig {
-    /// A segment joins a box when |segment n box| / |segment u box| (pixels) reaches this. The
-    /// paper's rule; a box holds one object, so an object split into several segments keeps
-    /// only those that fill enough of the box.
-    float min_iou = 0.2f;
-    /// ... or, additionally, when at least this fraction of the segment lies inside the box and
-    /// the segment's median depth is within `max_depth_from_core_m` of the depth of the box's
-    /// best (highest IoU) segment: the other parts of an object split by folds. > 1 disables.
-    float min_inside_fraction = 0.9f;
-    float max_depth_from_core_m = 0.5f;
-    /// When no segment passes min_iou, the largest segment lying inside the box (by
-    /// min_inside_fraction) becomes the core if it covers at least this fraction of the box.
-    float min_core_box_fraction = 0.05f;
-    /// When neither rule finds a core, the segment filling the most of the box becomes it if it
-    /// fills at least this fraction (its pixels inside the box form the mask). > 1 disables.
-    float min_fill_fraction = 0.4f;
-    /// Boxes whose best mask has fewer pixels than this give no instance.
-    int min_instance_pixels = 100;
-};
+/// Its fields (defaults, ranges, units, meanings) are declared once, in
+/// common/config/fusion.proto (InstanceParams), and generated into params/fusion_params.hpp.
+using InstanceSegmentationConfig = params::fusion::InstanceParams;
 
 std::string validate(const InstanceSegmentationConfig& config);
 

@@ -7,24 +7,14 @@
 namespace df::slam {
 
 std::string validate(const PreprocessConfig& c) {
-    std::ostringstream msg;
+    if (std::string e = params::check(c); !e.empty()) return e;
     if (!(c.min_depth_m > 0.f && c.max_depth_m > c.min_depth_m)) {
+        std::ostringstream msg;
         msg << "need 0 < min_depth_m < max_depth_m, got min_depth_m=" << c.min_depth_m
             << " max_depth_m=" << c.max_depth_m;
-    } else if (!(c.bilateral_sigma_space_px > 0.f && c.bilateral_sigma_depth_m > 0.f)) {
-        msg << "bilateral sigmas must be > 0, got bilateral_sigma_space_px="
-            << c.bilateral_sigma_space_px
-            << " bilateral_sigma_depth_m=" << c.bilateral_sigma_depth_m;
-    } else if (c.bilateral_radius_px < 0 || c.bilateral_radius_px > 16) {
-        msg << "bilateral_radius_px must be in 0..16, got " << c.bilateral_radius_px;
-    } else if (c.normal_baseline_px < 1 || c.normal_baseline_px > 8) {
-        msg << "normal_baseline_px must be in 1..8, got " << c.normal_baseline_px;
-    } else if (c.pyramid_levels < 1 || c.pyramid_levels > 8) {
-        msg << "pyramid_levels must be in 1..8, got " << c.pyramid_levels;
-    } else if (!(c.pyramid_max_depth_diff_m > 0.f)) {
-        msg << "pyramid_max_depth_diff_m must be > 0, got " << c.pyramid_max_depth_diff_m;
+        return msg.str();
     }
-    return msg.str();
+    return "";
 }
 
 namespace {

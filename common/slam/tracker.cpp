@@ -169,15 +169,7 @@ std::string validate(const TrackingConfig& c) {
     const size_t levels = c.iterations.size();
     if (levels == 0) {
         msg << "iterations must have one entry per pyramid level, got none";
-        return msg.str();
-    }
-    for (size_t l = 0; l < levels; ++l) {
-        if (c.iterations[l] < 0) {
-            msg << "iterations[" << l << "] must be >= 0, got " << c.iterations[l];
-            return msg.str();
-        }
-    }
-    if (c.pixel_step.size() != levels) {
+    } else if (c.pixel_step.size() != levels) {
         msg << "pixel_step must have " << levels << " entries (one per iterations entry), got "
             << c.pixel_step.size();
     } else if (c.rgb_min_gradient.size() != levels) {
@@ -185,42 +177,7 @@ std::string validate(const TrackingConfig& c) {
             << " entries (one per iterations entry), got " << c.rgb_min_gradient.size();
     }
     if (!msg.str().empty()) return msg.str();
-    for (size_t l = 0; l < levels; ++l) {
-        if (c.pixel_step[l] < 1) {
-            msg << "pixel_step[" << l << "] must be >= 1, got " << c.pixel_step[l];
-        } else if (!(c.rgb_min_gradient[l] >= 0.f)) {
-            msg << "rgb_min_gradient[" << l << "] must be >= 0, got " << c.rgb_min_gradient[l];
-        }
-        if (!msg.str().empty()) return msg.str();
-    }
-    const auto positive = [&msg](const char* name, double value) {
-        if (!msg.str().empty() || value > 0.0) return;
-        msg << name << " must be > 0, got " << value;
-    };
-    const auto non_negative = [&msg](const char* name, double value) {
-        if (!msg.str().empty() || value >= 0.0) return;
-        msg << name << " must be >= 0, got " << value;
-    };
-    positive("icp_max_distance_m", c.icp_max_distance_m);
-    positive("icp_max_normal_sin", c.icp_max_normal_sin);
-    positive("icp_weight", c.icp_weight);
-    positive("icp_weight_coarse", c.icp_weight_coarse);
-    positive("rgb_max_depth_difference_m", c.rgb_max_depth_difference_m);
-    positive("icp_huber_m", c.icp_huber_m);
-    positive("rgb_huber", c.rgb_huber);
-    non_negative("max_depth_m", c.max_depth_m);
-    non_negative("min_update_translation_m", c.min_update_translation_m);
-    non_negative("min_update_rotation_rad", c.min_update_rotation_rad);
-    non_negative("min_inlier_ratio", c.min_inlier_ratio);
-    non_negative("min_inliers", c.min_inliers);
-    positive("max_icp_rmse_m", c.max_icp_rmse_m);
-    non_negative("min_condition", c.min_condition);
-    positive("max_translation_m", c.max_translation_m);
-    positive("max_rotation_rad", c.max_rotation_rad);
-    if (msg.str().empty() && c.min_inlier_ratio > 1.f) {
-        msg << "min_inlier_ratio must be <= 1, got " << c.min_inlier_ratio;
-    }
-    return msg.str();
+    return params::check(c);  // each value against its range in slam.proto
 }
 
 Result<TrackingResult> track(const Frame& frame, const ModelView& model,

@@ -55,16 +55,59 @@ std::string field_text(const Message& m, const FieldDescriptor* f) {
     return text;
 }
 
+void add_names(const google::protobuf::Descriptor* d, const std::string& prefix,
+               std::set<std::string>* names) {
+    for (int i = 0; i < d->field_count(); ++i) {
+        const FieldDescriptor* f = d->field(i);
+        if (f->cpp_type() == FieldDescriptor::CPPTYPE_MESSAGE) {
+            add_names(f->message_type(), prefix + f->name() + ".", names);
+        } else {
+            names->insert(prefix + f->name());
+        }
+    }
+}
+
 std::set<std::string> proto_names() {
     std::set<std::string> names;
-    const auto* top = config::SlamParams::descriptor();
-    for (int s = 0; s < top->field_count(); ++s) {
-        const FieldDescriptor* section = top->field(s);
-        const auto* sub = section->message_type();
-        for (int i = 0; i < sub->field_count(); ++i)
-            names.insert(section->name() + "." + sub->field(i)->name());
-    }
+    add_names(config::SlamParams::descriptor(), "", &names);
     return names;
+}
+
+/// Sets every field set in `m` (nested messages walked) on the parameter of its dotted name.
+Status apply_fields(const Message& m, const std::string& prefix,
+                    const std::map<std::string, slam::Parameter>& table) {
+    std::vector<const FieldDescriptor*> fields;
+    m.GetReflection()->ListFields(m, &fields);
+    for (const FieldDescriptor* f : fields) {
+        const std::string name = prefix + f->name();
+        if (f->cpp_type() == FieldDescriptor::CPPTYPE_MESSAGE) {
+            DF_RETURN_IF_ERROR(apply_fields(m.GetReflection()->GetMessage(m, f), name + ".", table));
+            continue;
+        }
+        auto it = table.find(name);
+        if (it == table.end()) {
+            return error(StatusCode::kInvalidArgument,
+                         "slam." + name + " is in slam.proto but not a SLAM parameter");
+        }
+        DF_RETURN_IF_ERROR(slam::set_value(it->second, field_text(m, f)));
+    }
+    return Status::ok();
+}
+
+/// The descriptor of the field a dotted parameter name ("objects.association.min_overlap")
+/// names, or nullptr.
+const FieldDescriptor* field_named(const std::string& name) {
+    const google::protobuf::Descriptor* d = config::SlamParams::descriptor();
+    const FieldDescriptor* f = nullptr;
+    size_t begin = 0;
+    while (d != nullptr) {
+        const size_t dot = name.find('.', begin);
+        f = d->FindFieldByName(name.substr(begin, dot == std::string::npos ? dot : dot - begin));
+        if (f == nullptr || dot == std::string::npos) return f;
+        d = f->message_type();
+        begin = dot + 1;
+    }
+    return nullptr;
 }
 
 }  // namespace
@@ -72,37 +115,25 @@ std::set<std::string> proto_names() {
 Status apply(const config::SlamParams& params, slam::SystemConfig* config) {
     std::map<std::string, slam::Parameter> table;
     for (slam::Parameter& p : slam::parameters(config)) table.emplace(p.name, p);
-    const Reflection* top_r = params.GetReflection();
-    std::vector<const FieldDescriptor*> sections;
-    top_r->ListFields(params, &sections);
-    for (const FieldDescriptor* section : sections) {
-        const Message& sub = top_r->GetMessage(params, section);
-        std::vector<const FieldDescriptor*> fields;
-        sub.GetReflection()->ListFields(sub, &fields);
-        for (const FieldDescriptor* f : fields) {
-            const std::string name = section->name() + "." + f->name();
-            auto it = table.find(name);
-            if (it == table.end()) {
-                return error(StatusCode::kInvalidArgument,
-                             "slam." + name + " is in slam.proto but not a SLAM parameter");
-            }
-            DF_RETURN_IF_ERROR(slam::set_value(it->second, field_text(sub, f)));
-        }
-    }
-    return Status::ok();
+    return apply_fields(params, "", table);
 }
 
 config::SlamParams to_params(const slam::SystemConfig& config) {
     slam::SystemConfig copy = config;
     std::string text;
     for (const slam::Parameter& p : slam::parameters(&copy)) {
-        const size_t dot = p.name.find('.');
         std::string value = slam::value_text(p);
         if (std::holds_alternative<std::vector<int>*>(p.value) ||
             std::holds_alternative<std::vector<float>*>(p.value)) {
             value = "[" + value + "]";
         }
-        text += p.name.substr(0, dot) + " { " + p.name.substr(dot + 1) + ": " + value + " } ";
+        // "a.b.c" as "a { b { c: value } }"
+        std::string name = p.name, closing;
+        for (size_t dot; (dot = name.find('.')) != std::string::npos; name.erase(0, dot + 1)) {
+            text += name.substr(0, dot) + " { ";
+            closing += "} ";
+        }
+        text += name + ": " + value + " " + closing;
     }
     config::SlamParams params;
     google::protobuf::TextFormat::MergeFromString(text, &params);
@@ -111,21 +142,17 @@ config::SlamParams to_params(const slam::SystemConfig& config) {
 
 std::string params_table(const slam::SystemConfig& config) {
     slam::SystemConfig copy = config;
-    const auto* top = config::SlamParams::descriptor();
     std::string out =
         "# slam { <section> { <field>: value } } in a service config, or\n"
         "# --set 'slam { <section> { <field>: value } }'\n"
-        "# name                                     default    allowed [unit]  meaning\n";
+        "# name                                           default    allowed [unit]  meaning\n";
     for (const slam::Parameter& p : slam::parameters(&copy)) {
-        const size_t dot = p.name.find('.');
-        const FieldDescriptor* section = top->FindFieldByName(p.name.substr(0, dot));
-        const FieldDescriptor* field =
-            section ? section->message_type()->FindFieldByName(p.name.substr(dot + 1)) : nullptr;
+        const FieldDescriptor* field = field_named(p.name);
         std::string allowed = field ? config::allowed_text(field) : "";
         const std::string unit = field ? config::unit_of(field) : "";
         if (!unit.empty()) allowed += (allowed.empty() ? "" : " ") + ("[" + unit + "]");
         char line[512];
-        std::snprintf(line, sizeof line, "%-42s %-10s %-24s %s\n", p.name.c_str(),
+        std::snprintf(line, sizeof line, "%-48s %-10s %-24s %s\n", p.name.c_str(),
                       slam::value_text(p).c_str(), allowed.empty() ? "-" : allowed.c_str(),
                       p.meaning.c_str());
         out += line;

@@ -14,57 +14,20 @@
 #include "objects/object_maps.hpp"
 #include "slam/slam_config.hpp"
 #include "slam/tracker.hpp"
+#include "params/slam_params.hpp"
 
 namespace df::slam {
 
 /// Choices of the system that are not those of one algorithm.
-struct SystemOptions {
-    /// 1: process the input at its own resolution; 2: halve width and height first (depth by
-    /// nearest neighbour, so no depth is averaged across edges; colour by area averaging), which
-    /// makes every stage about 4x cheaper at some cost in accuracy. Default 2: on this project's
-    /// 2-core reference machine it is the resolution that keeps tracking + mapping within 50 ms
-    /// per frame (docs/benchmarks.md); use 1 where a faster CPU allows.
-    int processing_downscale = 2;
-    /// The model tracking aligns to renders surfels with confidence >= this (ElasticFusion
-    /// tracks against its confident surfels: fresh, noisy ones would pull the pose) ...
-    /// 3: fragments of a mover fused in a frame or two (a missed detection) do not show in the
-    /// model, so they neither pull tracking nor hide the mover from motion segmentation (its
-    /// residuals are then against the background behind it); 7-Scenes ATE unchanged (2.42 cm
-    /// with 0 or 3, docs/dynamics.md).
-    float predict_min_confidence = 3.f;
-    /// ... except during the first this many frames, when every active surfel is rendered (no
-    /// surfel can be confident yet).
-    int bootstrap_frames = 10;
-    /// Initial guess of each frame's pose: false = the previous pose (ElasticFusion); true =
-    /// the previous pose moved on by the last frame-to-frame motion (constant velocity).
-    bool constant_velocity = false;
-    /// Fuse frames whose tracking is lost (false keeps a wrong pose out of the map).
-    bool fuse_when_lost = false;
-    /// Fusion associates each pixel with the surfel a prediction of every active surfel at the
-    /// new pose shows there (true), or with the nearest surfel centre projected into it (false,
-    /// cheaper: no second rendering).
-    bool associate_by_prediction = true;
-};
+/// Its fields (defaults, ranges, units, meanings) are declared once, in
+/// common/config/slam.proto (SlamParams.System), and generated into params/slam_params.hpp.
+using SystemOptions = params::slam::System;
 
 /// How the static map is kept static (docs/dynamics.md): which masks the frame's pixels are
 /// left out by, and the two tracking stages.
-struct DynamicsOptions {
-    /// Leave the frame's object instances (FrameSegments::objects, of the kinds `invalid`
-    /// names) out of tracking and fusion of the static map. false: segments are ignored.
-    bool use_segments = true;
-    /// Find unknown movers in stage 1's residuals and leave them out too (stage 2).
-    bool motion_segmentation = true;
-    /// Motion segments of the previous frame, warped by the tracked motion, lower the evidence
-    /// a segment needs to stay dynamic (MotionSegmentationConfig::carried_segment_fraction).
-    bool carry_forward = true;
-    /// Gauss-Newton iterations per level (finest first) of stage 2, the refinement of stage 1's
-    /// pose with the whole invalid mask left out; run only when motion segmentation found
-    /// something. Its size must be that of tracking.iterations.
-    std::vector<int> refine_iterations = {6, 3, 0};
-    /// A frame stage 1 rejected is rescued by stage 2 only when motion segmentation left out at
-    /// most this fraction of the pixels it clustered: a wrong pose makes everything look like it
-    /// moved, and a mask that explains away most of the view would pass any check.
-    float max_rescue_fraction = 0.3f;
+/// Its fields (defaults, ranges, units, meanings) are declared once, in
+/// common/config/slam.proto (SlamParams.Dynamics), and generated into params/slam_params.hpp.
+struct DynamicsOptions : params::slam::Dynamics {
     dynamics::MotionSegmentationConfig motion;
     dynamics::InvalidMaskConfig invalid;
     /// Rigid instances remembered over the frames the detector misses (when invalid.rigid).

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <limits>
 
+#include "config/apply_params.hpp"
 #include "core/log.hpp"
 #include "dds/msg_convert.hpp"
 #include "detect/detector.hpp"
@@ -32,11 +33,7 @@ Result<FusionSettings> settings_from(const config::FusionServiceConfig& c) {
     s.join.detection_deadline_ns = static_cast<int64_t>(c.detection_deadline_ms() * 1e6);
     s.join.reuse_max_age_ns = static_cast<int64_t>(c.reuse_max_age_ms() * 1e6);
     s.join.max_pending = c.max_pending();
-    if (c.has_min_iou()) s.instance.min_iou = c.min_iou();
-    if (c.has_min_inside_fraction()) s.instance.min_inside_fraction = c.min_inside_fraction();
-    if (c.has_min_core_box_fraction()) s.instance.min_core_box_fraction = c.min_core_box_fraction();
-    if (c.has_min_fill_fraction()) s.instance.min_fill_fraction = c.min_fill_fraction();
-    if (c.has_min_instance_pixels()) s.instance.min_instance_pixels = c.min_instance_pixels();
+    DF_RETURN_IF_ERROR(config::apply_params(c.instances(), &s.instance));
     const detect::DetectorConfig defaults;
     s.rigid = c.rigid_classes().empty()
                   ? defaults.rigid_classes

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <vector>
 
+#include "config/apply_params.hpp"
 #include "core/log.hpp"
 #include "dds/msg_convert.hpp"
 #include "service/service.hpp"
@@ -25,17 +26,9 @@ struct Pending {
 
 Status apply(const config::GeosegParams& p, seg::GeometricSegmentationConfig* seg,
              slam::PreprocessConfig* preprocess) {
-    if (p.has_max_concavity()) seg->max_concavity = p.max_concavity();
-    if (p.has_max_concavity_per_m2()) seg->max_concavity_per_m2 = p.max_concavity_per_m2();
-    if (p.has_max_distance_m()) seg->max_distance_m = p.max_distance_m();
-    if (p.has_max_distance_per_m2()) seg->max_distance_per_m2 = p.max_distance_per_m2();
-    if (p.has_min_segment_pixels()) seg->min_segment_pixels = p.min_segment_pixels();
-    if (p.has_absorb_max_depth_difference_m())
-        seg->absorb_max_depth_difference_m = p.absorb_max_depth_difference_m();
-    if (p.has_absorb_iterations()) seg->absorb_iterations = p.absorb_iterations();
-    if (p.has_neighbours()) seg->neighbours = p.neighbours();
-    if (p.has_max_depth_m()) preprocess->max_depth_m = p.max_depth_m();
-    if (p.has_normal_baseline_px()) preprocess->normal_baseline_px = p.normal_baseline_px();
+    DF_RETURN_IF_ERROR(config::apply_params(p, seg));
+    preprocess->max_depth_m = seg->max_depth_m;
+    preprocess->normal_baseline_px = seg->normal_baseline_px;
     preprocess->pyramid_levels = 1;  // only the full-resolution level is segmented
     if (std::string e = seg::validate(*seg); !e.empty()) {
         return error(StatusCode::kInvalidArgument, "params: " + e);

@@ -96,7 +96,7 @@ expect_refused "class 'cup' is listed in both rigid_classes and non_rigid_classe
   "$BIN/df_fusion" --set "$udp" --set 'rigid_classes: "cup" non_rigid_classes: "cup"'
 expect_refused "detection_deadline_ms is nan, allowed: >= 0 and <= 600000 (unit: ms)" \
   "$BIN/df_fusion" --set "$udp" --set 'detection_deadline_ms: nan'
-expect_refused "min_iou is 2, allowed: > 0 and <= 1" "$BIN/df_fusion" --set "$udp" --set 'min_iou: 2'
+expect_refused "instances.min_iou is 2, allowed: > 0 and <= 1" "$BIN/df_fusion" --set "$udp" --set 'instances { min_iou: 2 }'
 
 # Geometric segmentation.
 expect_refused "params.max_distance_m is -1, allowed: > 0 and <= 1 (unit: m)" \

@@ -178,7 +178,7 @@ TEST(Validate, SlamLibraryDefaultsSatisfyTheRangesOfSlamProto) {
     const Status s = check_fields(params, "slam.");
     EXPECT_TRUE(s) << s.message();
     EXPECT_NE(slam::params_table(slam::SystemConfig{})
-                  .find("map.confidence_sigma                       0.6        > 0 and <= 100"),
+                  .find("map.confidence_sigma                             0.6        > 0 and <= 100"),
               std::string::npos)
         << slam::params_table(slam::SystemConfig{});
 }

@@ -3,6 +3,11 @@
 #include <gtest/gtest.h>
 #include <google/protobuf/text_format.h>
 
+#include <limits>
+#include <variant>
+
+#include "options.pb.h"
+
 #include "slam_system/parameters.hpp"
 #include "slam_system/slam_params.hpp"
 #include "slam_system/slam_system.hpp"
@@ -15,6 +20,86 @@ TEST(SlamParameters, ProtoAndTableListTheSameParameters) {
     for (const std::string& m : mismatches) ADD_FAILURE() << m;
     SystemConfig config;
     EXPECT_GE(parameters(&config).size(), 40u);
+}
+
+// Each parameter is declared once, in slam.proto; the structs are generated from it. The proto's
+// default is the struct's default and its range is what the libraries' validate() enforce.
+TEST(SlamParameters, TheStructDefaultIsTheProtoDefault) {
+    SystemConfig config;
+    int compared = 0;
+    for (const Parameter& p : parameters(&config)) {
+        const google::protobuf::Descriptor* d = config::SlamParams::descriptor();
+        const google::protobuf::FieldDescriptor* f = nullptr;
+        std::string rest = p.name;
+        for (size_t dot; (dot = rest.find('.')) != std::string::npos; rest.erase(0, dot + 1)) {
+            f = d->FindFieldByName(rest.substr(0, dot));
+            ASSERT_NE(f, nullptr) << p.name;
+            d = f->message_type();
+        }
+        f = d->FindFieldByName(rest);
+        ASSERT_NE(f, nullptr) << p.name;
+        if (f->is_repeated()) {
+            ASSERT_TRUE(f->options().HasExtension(config::defaults)) << p.name;
+            EXPECT_EQ(value_text(p), f->options().GetExtension(config::defaults)) << p.name;
+        } else {
+            ASSERT_TRUE(f->has_default_value()) << p.name;
+            using FD = google::protobuf::FieldDescriptor;
+            std::visit(
+                [&](auto* v) {
+                    using T = std::remove_pointer_t<decltype(v)>;
+                    if constexpr (std::is_same_v<T, bool>) {
+                        EXPECT_EQ(*v, f->default_value_bool()) << p.name;
+                    } else if constexpr (std::is_arithmetic_v<T>) {
+                        double declared = 0;
+                        switch (f->cpp_type()) {
+                            case FD::CPPTYPE_FLOAT: declared = f->default_value_float(); break;
+                            case FD::CPPTYPE_DOUBLE: declared = f->default_value_double(); break;
+                            case FD::CPPTYPE_INT32: declared = f->default_value_int32(); break;
+                            case FD::CPPTYPE_UINT64:
+                                declared = static_cast<double>(f->default_value_uint64());
+                                break;
+                            default: ADD_FAILURE() << p.name << ": unexpected type";
+                        }
+                        EXPECT_EQ(static_cast<double>(*v), declared) << p.name;
+                    } else {
+                        ADD_FAILURE() << p.name << ": a list without repeated";
+                    }
+                },
+                p.value);
+        }
+        EXPECT_FALSE(f->options().GetExtension(config::doc).empty()) << p.name << " has no (doc)";
+        EXPECT_EQ(p.meaning, f->options().GetExtension(config::doc)) << p.name;
+        ++compared;
+    }
+    EXPECT_GE(compared, 100);
+}
+
+TEST(SlamParameters, OutOfRangeValuesAreNamedWithTheDeclaredRange) {
+    SystemConfig config;
+    config.map.confidence_sigma = 0.f;
+    EXPECT_EQ(validate(config), "map.confidence_sigma is 0, allowed: > 0 and <= 100");
+    config = SystemConfig{};
+    config.objects.association.min_overlap = 1.5f;
+    EXPECT_EQ(validate(config), "objects.association.min_overlap is 1.5, allowed: > 0 and <= 1");
+    config = SystemConfig{};
+    config.tracking.pixel_step = {1, 0, 1};
+    EXPECT_EQ(validate(config), "tracking.pixel_step[1] is 0, allowed: >= 1 and <= 16 [px]");
+    config = SystemConfig{};
+    config.dynamics.motion.max_residual_m = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_EQ(validate(config).rfind("motion.max_residual_m is nan, allowed: > 0", 0), 0u)
+        << validate(config);
+    // Text configs go through the same generated structs, nested sections included.
+    config::SlamParams params;
+    ASSERT_TRUE(google::protobuf::TextFormat::ParseFromString(
+        "objects { association { min_overlap: 0.45 class_must_agree: false } max_objects: 3 }",
+        &params));
+    config = SystemConfig{};
+    ASSERT_TRUE(apply(params, &config).is_ok());
+    EXPECT_FLOAT_EQ(config.objects.association.min_overlap, 0.45f);
+    EXPECT_FALSE(config.objects.association.class_must_agree);
+    EXPECT_EQ(config.objects.max_objects, 3);
+    const config::SlamParams back = to_params(config);
+    EXPECT_FLOAT_EQ(back.objects().association().min_overlap(), 0.45f);
 }
 
 TEST(SlamParameters, ConfigTextSetsTheStructFields) {
