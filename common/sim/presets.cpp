@@ -192,6 +192,33 @@ void build_default(Sequence* s, const PhotoLibrary* photos) {
     s->camera.seed = s->seed;
 }
 
+/// `n` toy cars (1..5) in two lanes in front of a hand-held camera, each driving 0.4 m along
+/// its lane, waiting, and driving back, all at once (their distances never change): for the
+/// cost of object maps with 1, 3 and 5 objects in view (docs/objects.md, "Cost").
+void build_cars(Sequence* s, const PhotoLibrary* photos, int n) {
+    Rng rng(s->seed ^ 0xCA55);
+    build_office(&s->scene, photos, s->seed);
+    Scene& scene = s->scene;
+    // Lanes y = 1.62 and 0.55 are room4's (clear of the furniture); 1.3 m apart within a lane
+    // (cars about 1 m long).
+    const Vec2 starts[5] = {{0.0, 1.62}, {-0.65, 0.55}, {0.65, 0.55}, {-1.3, 1.62}, {1.3, 1.62}};
+    const Rgb colours[5] = {Rgb(0.8, 0.1, 0.1), Rgb(0.1, 0.5, 0.8), Rgb(0.9, 0.7, 0.1),
+                            Rgb(0.2, 0.7, 0.3), Rgb(0.6, 0.3, 0.7)};
+    for (int i = 0; i < n && i < 5; ++i) {
+        const Vec2 a = starts[i];
+        Route route(a - Vec2(0.2, 0.0), 0.0, 1.0);
+        route.wait(0.3).move({a + Vec2(0.2, 0.0)}, 0.3, 0.5).wait(0.8).close_loop(0.3);
+        scene.objects.push_back(rigid("car_" + std::to_string(i + 1), 2, "car",
+                                      make_car(&scene, vary(colours[i], &rng), 0.22),
+                                      std::make_shared<GroundMotion>(route)));
+    }
+    s->camera.motion = CameraMotion::kHandheld;
+    s->camera.position = Vec3(0, -1.7, 1.6);
+    s->camera.target = Vec3(0, 1.2, 0.1);
+    s->camera.amplitude = 0.2;
+    s->camera.seed = s->seed;
+}
+
 }  // namespace
 
 const std::vector<PresetInfo>& presets() {
@@ -230,6 +257,9 @@ const std::vector<PresetInfo>& presets() {
          "Co-Fusion room4: a car drives loops through the room, stopping; a suitcase "
          "slides behind the desk; an unknown drum rolls; hand-held camera",
          300},
+        {"cars_1", "one toy car drives to and fro in front of a hand-held camera", 150},
+        {"cars_3", "three toy cars drive to and fro in two lanes; hand-held camera", 150},
+        {"cars_5", "five toy cars drive to and fro in two lanes; hand-held camera", 150},
     };
     return list;
 }
@@ -294,6 +324,8 @@ Result<Sequence> make_sequence(const std::string& preset, const PresetOptions& o
     io::Intrinsics k640{535.4, 539.2, 320.1, 247.6};  // TUM fr3
     if (preset == "default") {
         build_default(&s, &photos);
+    } else if (preset.rfind("cars_", 0) == 0) {
+        build_cars(&s, &photos, preset.back() - '0');
     } else if (preset == "room4") {
         build_room4(&s, &photos);
         k640 = io::Intrinsics{360.0, 360.0, 320.0, 240.0};  // Co-Fusion's synthetic calibration

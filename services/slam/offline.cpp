@@ -16,6 +16,7 @@
 #include "detect/detector.hpp"
 #include "mask_outputs.hpp"
 #include "objects/object_io.hpp"
+#include "eval/segmentation.hpp"
 #include "seg/frame_segmenter.hpp"
 #include "core/log.hpp"
 #include "eval/trajectory_metrics.hpp"
@@ -63,9 +64,11 @@ Status input_config(const OfflineOptions& o, config::CaptureConfig* c) {
 }
 
 /// The masks of the frame stamped `sensor_ns`, from options.masks (see OfflineOptions): a
-/// 16-bit instance image (or any single-channel image, non-zero = left out), every id an
-/// instance of unknown kind, grown by options.mask_dilate_px.
-Result<dynamics::FrameSegments> read_masks(const OfflineOptions& o, const io::RgbdImage& image) {
+/// 16-bit instance image (or any single-channel image, non-zero = left out), grown by
+/// options.mask_dilate_px. Each id is an instance of the class and kind `table` gives it (a
+/// generated sequence's instances.json); ids it lacks, or all with no table, of unknown kind.
+Result<dynamics::FrameSegments> read_masks(const OfflineOptions& o, const io::RgbdImage& image,
+                                           const std::vector<eval::GtInstance>& table) {
     const std::string file = o.masks + "/" + io::stamp_text(image.sensor_ns) + ".png";
     if (!std::filesystem::exists(file)) {
         return error(StatusCode::kNotFound, "no mask " + file + " for this frame");
@@ -88,7 +91,27 @@ Result<dynamics::FrameSegments> read_masks(const OfflineOptions& o, const io::Rg
     }
     dynamics::FrameSegments segments;
     segments.objects = dynamics::from_labels(raw, dynamics::ObjectKind::kUnknown);
+    for (dynamics::InstanceInfo& row : segments.objects.instances) {
+        for (const eval::GtInstance& gt : table) {
+            if (gt.id != row.id) continue;
+            row.class_id = gt.class_id;
+            row.score = 1.f;
+            row.kind = gt.kind == eval::InstanceKind::kRigid       ? dynamics::ObjectKind::kRigid
+                       : gt.kind == eval::InstanceKind::kNonRigid ? dynamics::ObjectKind::kNonRigid
+                                                                   : dynamics::ObjectKind::kUnknown;
+        }
+    }
     return segments;
+}
+
+/// The instances.json beside a masks folder (SEQ/instances -> SEQ/instances.json), if any:
+/// then ground-truth masks carry their classes and kinds (rigid objects get object maps).
+Result<std::vector<eval::GtInstance>> mask_table(const std::string& masks) {
+    std::filesystem::path folder(masks);
+    if (!folder.has_filename()) folder = folder.parent_path();
+    const std::filesystem::path file = folder.parent_path() / "instances.json";
+    if (!std::filesystem::exists(file)) return std::vector<eval::GtInstance>{};
+    return eval::read_instances_json(file.string());
 }
 
 /// Where a frame's segments come from: ground-truth masks, or geometric segmentation and (on
@@ -98,6 +121,14 @@ class Segmenter {
     static Result<Segmenter> open(const OfflineOptions& o, const config::SlamServiceConfig& c) {
         Segmenter s;
         s.options_ = o;
+        if (!o.masks.empty()) {
+            auto table = mask_table(o.masks);
+            if (!table) return table.status().with_context("--masks");
+            s.mask_table_ = std::move(table).value();
+            if (!s.mask_table_.empty())
+                log::info("masks: classes and kinds of ", s.mask_table_.size(),
+                          " instances from the instances.json beside them");
+        }
         if (!o.masks.empty() || o.dynamics == "off" || o.detector == "none") return s;
         config::DetectorServiceConfig d = c.detector();
         if (o.detector == "simulated") {
@@ -113,7 +144,7 @@ class Segmenter {
 
     /// The segments of `image` (frame `seq`); an error names the frame's file or stage.
     Result<dynamics::FrameSegments> segment(const io::RgbdImage& image, uint64_t seq) {
-        if (!options_.masks.empty()) return read_masks(options_, image);
+        if (!options_.masks.empty()) return read_masks(options_, image, mask_table_);
         if (options_.dynamics == "off") return dynamics::FrameSegments{};
         std::future<Result<std::vector<detect::Detection>>> boxes;
         if (boxes_) {
@@ -136,6 +167,7 @@ class Segmenter {
 
   private:
     OfflineOptions options_;
+    std::vector<eval::GtInstance> mask_table_;  ///< with --masks: instances.json, if any
     seg::FrameSegmenterConfig config_;
     detect::DetectorConfig classes_;  ///< which classes are rigid / non-rigid (df_detect's)
     std::unique_ptr<boxes::BoxSource> boxes_;

@@ -71,12 +71,20 @@ pass "bad folder and bad configuration named"
 "$BIN/df_slam" offline "$TMP/dyn" -o "$TMP/dyn_out" --masks "$TMP/dyn/instances" >"$TMP/dyn.out" 2>"$TMP/dyn.err" \
   || fail "masked offline failed: $(tail -5 "$TMP/dyn.err")"
 grep -q "^processed 8 frames (0 lost, 0 bad)" "$TMP/dyn.out" || fail "masked run: $(cat "$TMP/dyn.out")"
+# instances.json beside the masks gives them their classes and kinds: the car (rigid) gets an
+# object map of its own; the person and the drum do not.
+grep -q "classes and kinds of 3 instances" "$TMP/dyn.err" || fail "instances.json not read: $(grep masks "$TMP/dyn.err")"
+grep -q '"class_name": "car"' "$TMP/dyn_out/objects.json" \
+  || fail "no object map for the car from ground-truth masks: $(cat "$TMP/dyn_out/objects.json")"
+if grep -q '"class_name": "person"\|"class_name": "unknown"' "$TMP/dyn_out/objects.json"; then
+  fail "an object map for a non-rigid or unknown instance: $(cat "$TMP/dyn_out/objects.json")"
+fi
 mkdir -p "$TMP/few_masks"
 cp "$TMP/dyn/instances/1.000000.png" "$TMP/few_masks/"
 "$BIN/df_slam" offline "$TMP/dyn" -o "$TMP/few_out" --masks "$TMP/few_masks" --max-frames 3 >"$TMP/few.out" 2>&1 || true
 grep -q "no mask $TMP/few_masks/1.033333.png" "$TMP/few.out" || fail "missing mask not named: $(cat "$TMP/few.out")"
 grep -q "^processed 1 frames (0 lost, 2 bad)" "$TMP/few.out" || fail "missing masks not counted as bad frames: $(cat "$TMP/few.out")"
-pass "masks: instances/ applied; a missing mask file is named and its frame skipped"
+pass "masks: instances/ applied with instances.json's classes (the car mapped); a missing mask file is named and its frame skipped"
 
 # --- the service behind capture (lockstep, shared memory) ---
 "$BIN/df_tap" record -o "$TMP/poses.mcap" "$NS/camera_pose" --wait 20 --idle 4 >"$TMP/rec.out" 2>"$TMP/rec.err" &
