@@ -6,6 +6,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <thread>
 
+#include "config/apply_params.hpp"
 #include "detect/detector.hpp"
 #include "eval/segmentation.hpp"
 #include "io/tum/stamp.hpp"
@@ -108,10 +109,7 @@ Result<std::unique_ptr<BoxSource>> open_source(const config::DetectorServiceConf
     d.model_path = c.model_path();
     d.weights_path = c.weights_path();
     d.names_path = c.names_path();
-    d.input_width = c.input_width();
-    d.input_height = c.input_height();
-    d.score_threshold = c.score_threshold();
-    d.nms_iou_threshold = c.nms_iou_threshold();
+    DF_RETURN_IF_ERROR(config::apply_params(c, &d));  // the (params_struct) fields
     const auto& names = detect::coco_names();
     for (const auto& [name, threshold] : c.class_score_thresholds()) {
         if (d.names_path.empty() && std::find(names.begin(), names.end(), name) == names.end()) {
@@ -120,7 +118,6 @@ Result<std::unique_ptr<BoxSource>> open_source(const config::DetectorServiceConf
         }
         d.class_score_thresholds[name] = threshold;
     }
-    d.threads = c.threads();
     auto detector = detect::open_detector(d);
     if (!detector) return detector.status();
     return std::unique_ptr<BoxSource>(new YoloSource(std::move(*detector)));

@@ -1,6 +1,6 @@
 // df_gen_params OUT_DIR: writes the C++ parameter structs of the messages the .proto files
 // declare as parameter sets (SlamParams' sections in slam.proto, GeosegParams in geoseg.proto,
-// InstanceParams in fusion.proto), with their defaults, one-line meanings, units and ranges, so
+// InstanceParams in fusion.proto, the detector's fields marked (params_struct)), with their defaults, one-line meanings, units and ranges, so
 // that each parameter is declared once, in its .proto (docs/slam.md, "Parameters"). Run by the
 // build (common/config/CMakeLists.txt); its output is <build>/generated/params/*.hpp, included
 // as "params/slam_params.hpp" and so on.
@@ -18,6 +18,7 @@
 
 #include "config/validate.hpp"
 #include "options.pb.h"
+#include "detector.pb.h"
 #include "fusion.pb.h"
 #include "geoseg.pb.h"
 #include "slam.pb.h"
@@ -172,17 +173,35 @@ std::string comment(const std::string& text, const std::string& indent) {
     return out;
 }
 
-void emit_struct(const Descriptor* d, const std::string& source, const std::string& indent,
-                 std::ostringstream& out) {
-    out << comment(d->full_name() + " (" + source + ").", indent);
-    out << indent << "struct " << d->name() << " {\n";
-    const std::string in = indent + "    ";
-    for (int i = 0; i < d->nested_type_count(); ++i) {
-        emit_struct(d->nested_type(i), source, in, out);
-        out << "\n";
-    }
+/// The fields of `d` that belong to struct `name`: every field when `name` is the message's own
+/// name, else those marked (params_struct) = name (a parameter set inside a service message).
+std::vector<const FieldDescriptor*> fields_of(const Descriptor* d, const std::string& name) {
+    std::vector<const FieldDescriptor*> fields;
     for (int i = 0; i < d->field_count(); ++i) {
         const FieldDescriptor* f = d->field(i);
+        if (name == d->name() || f->options().GetExtension(df::config::params_struct) == name)
+            fields.push_back(f);
+    }
+    return fields;
+}
+
+void emit_struct(const Descriptor* d, const std::string& name, const std::string& source,
+                 const std::string& indent, std::ostringstream& out) {
+    const std::vector<const FieldDescriptor*> fields = fields_of(d, name);
+    if (fields.empty()) throw std::runtime_error(d->full_name() + ": no fields for " + name);
+    out << comment(d->full_name() + (name == d->name() ? "" : ", the fields marked (params_struct) = \"" + name + "\"") + " (" + source + ").", indent);
+    out << indent << "struct " << name << " {\n";
+    const std::string in = indent + "    ";
+    // The nested messages its fields use become nested structs.
+    for (int i = 0; i < d->nested_type_count(); ++i) {
+        const Descriptor* nested = d->nested_type(i);
+        bool used = false;
+        for (const FieldDescriptor* f : fields) used = used || f->message_type() == nested;
+        if (!used) continue;
+        emit_struct(nested, nested->name(), source, in, out);
+        out << "\n";
+    }
+    for (const FieldDescriptor* f : fields) {
         const auto& options = f->options();
         if (!options.HasExtension(df::config::doc)) fail(f, "a parameter needs (doc) = \"...\"");
         std::string what = options.GetExtension(df::config::doc);
@@ -195,16 +214,16 @@ void emit_struct(const Descriptor* d, const std::string& source, const std::stri
         out << in << (f->is_repeated() ? "std::vector<" + type + ">" : type) << " " << f->name()
             << default_of(f) << ";\n";
     }
-    out << "\n" << in << "static constexpr FieldInfo kFields[" << d->field_count() << "] = {\n";
-    for (int i = 0; i < d->field_count(); ++i)
-        out << in << "    " << info_of(d->field(i)) << ",\n";
+    const size_t n = fields.size();
+    out << "\n" << in << "static constexpr FieldInfo kFields[" << n << "] = {\n";
+    for (const FieldDescriptor* f : fields) out << in << "    " << info_of(f) << ",\n";
     out << in << "};\n";
     for (const char* constness : {"", " const"}) {
         out << in << "/// Calls f(kFields[i], field) for every field, in declaration order.\n";
         out << in << "template <class F>\n" << in << "void for_each_field(F&& f)" << constness
             << " {\n";
-        for (int i = 0; i < d->field_count(); ++i)
-            out << in << "    f(kFields[" << i << "], " << d->field(i)->name() << ");\n";
+        for (size_t i = 0; i < n; ++i)
+            out << in << "    f(kFields[" << i << "], " << fields[i]->name() << ");\n";
         out << in << "}\n";
     }
     out << indent << "};\n";
@@ -215,7 +234,9 @@ struct Unit {
     std::string file;   ///< under OUT_DIR/params/
     std::string proto;  ///< for the comments
     std::string ns;     ///< df::params::<ns>
-    std::vector<const Descriptor*> messages;
+    /// Each message with the name of the struct made of it (the message's own name: all its
+    /// fields; another name: its fields marked (params_struct) with that name).
+    std::vector<std::pair<const Descriptor*, std::string>> messages;
 };
 
 std::string header(const Unit& unit) {
@@ -228,8 +249,8 @@ std::string header(const Unit& unit) {
            "#include <cstddef>\n#include <vector>\n\n#include \"params/field_info.hpp\"\n\n"
            "namespace df::params::"
         << unit.ns << " {\n\n";
-    for (const Descriptor* d : unit.messages) {
-        emit_struct(d, unit.proto, "", out);
+    for (const auto& [d, name] : unit.messages) {
+        emit_struct(d, name, unit.proto, "", out);
         out << "\n";
     }
     out << "}  // namespace df::params::" << unit.ns << "\n";
@@ -246,12 +267,15 @@ int main(int argc, char** argv) {
     std::vector<Unit> units;
     Unit slam{"slam_params.hpp", "common/config/slam.proto", "slam", {}};
     const Descriptor* top = df::config::SlamParams::descriptor();
-    for (int i = 0; i < top->nested_type_count(); ++i) slam.messages.push_back(top->nested_type(i));
+    for (int i = 0; i < top->nested_type_count(); ++i)
+        slam.messages.emplace_back(top->nested_type(i), top->nested_type(i)->name());
     units.push_back(slam);
     units.push_back({"geoseg_params.hpp", "common/config/geoseg.proto", "geoseg",
-                     {df::config::GeosegParams::descriptor()}});
+                     {{df::config::GeosegParams::descriptor(), "GeosegParams"}}});
     units.push_back({"fusion_params.hpp", "common/config/fusion.proto", "fusion",
-                     {df::config::InstanceParams::descriptor()}});
+                     {{df::config::InstanceParams::descriptor(), "InstanceParams"}}});
+    units.push_back({"detector_params.hpp", "common/config/detector.proto", "detector",
+                     {{df::config::DetectorServiceConfig::descriptor(), "DetectorParams"}}});
     for (const Unit& unit : units) {
         std::string text;
         try {

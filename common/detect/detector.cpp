@@ -187,8 +187,9 @@ Status check_fraction(const std::string& name, float value) {
 }
 
 Result<cv::dnn::Net> load_net(const DetectorConfig& c, std::vector<std::string>* outputs) {
-    DF_RETURN_IF_ERROR(check_fraction("score_threshold", c.score_threshold));
-    DF_RETURN_IF_ERROR(check_fraction("nms_iou_threshold", c.nms_iou_threshold));
+    // Each value against its range in detector.proto, then what a range cannot say.
+    if (std::string e = params::check(c); !e.empty())
+        return error(StatusCode::kInvalidArgument, e);
     for (const auto& [name, t] : c.class_score_thresholds) {
         DF_RETURN_IF_ERROR(check_fraction("class_score_thresholds[" + name + "]", t));
     }

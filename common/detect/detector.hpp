@@ -12,6 +12,7 @@
 
 #include "core/status.hpp"
 #include "detect/detection.hpp"
+#include "params/detector_params.hpp"
 
 namespace df::detect {
 
@@ -36,7 +37,11 @@ std::string default_models_dir();
 /// this user can read (else default_models_dir() + "/yolov5s", which the load error names).
 std::string default_yolov5_dir();
 
-struct DetectorConfig {
+/// The thresholds and sizes (input_width, input_height, score_threshold, nms_iou_threshold,
+/// max_detections, threads: defaults, ranges and meanings) are declared once, in
+/// common/config/detector.proto (the fields marked (params_struct) = "DetectorParams"), and
+/// generated into params/detector_params.hpp; the rest is here.
+struct DetectorConfig : params::detector::DetectorParams {
     ModelKind kind = ModelKind::kTfjsYolov5;
     /// kTfjsYolov5: the folder with model.json (empty: default_yolov5_dir()).
     /// kDarknet: the .cfg file. kOnnx: the .onnx file.
@@ -45,24 +50,10 @@ struct DetectorConfig {
     std::string weights_path;
     /// Class names in model order, one per line (empty: the 80 COCO names built in).
     std::string names_path;
-
-    /// Network input, pixels; multiples of 32 (e.g. 320x320, 416x416, 640x640, 640x480). The image
-    /// is letterboxed into it (aspect kept, grey 114 borders). Darknet and ONNX models whose
-    /// input size is fixed in the file need the size they were exported with.
-    int input_width = 640;
-    int input_height = 640;
     /// Largest input side accepted (OpenCV's network fails without a usable message beyond).
     static constexpr int kMaxInputSide = 2048;
-
-    /// Score (objectness x class probability, 0..1) a detection needs, unless its class name has
-    /// an entry in class_score_thresholds.
-    float score_threshold = 0.25f;
+    /// Per class name, the score a detection needs instead of score_threshold.
     std::map<std::string, float> class_score_thresholds;
-    /// Boxes of the same class that overlap more than this (intersection over union) are merged
-    /// into the higher-scoring one.
-    float nms_iou_threshold = 0.45f;
-    /// At most this many detections per image, best first (<= 0: no limit).
-    int max_detections = 100;
 
     /// Classes that are rigid objects (get their own map downstream) and non-rigid ones (only
     /// masked out). Every other class is kIgnored.
@@ -74,9 +65,6 @@ struct DetectorConfig {
     std::set<std::string> non_rigid_classes = {"person"};
     /// Drop detections whose class is kIgnored (default false: report every class).
     bool drop_ignored_classes = false;
-
-    /// OpenCV worker threads (cv::setNumThreads, process-wide); <= 0 leaves OpenCV's default.
-    int threads = 0;
 
     /// How downstream treats class_name.
     ClassKind kind_of(const std::string& class_name) const;

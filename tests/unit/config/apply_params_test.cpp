@@ -7,8 +7,10 @@
 #include <limits>
 
 #include "config/apply_params.hpp"
+#include "detector.pb.h"
 #include "fusion.pb.h"
 #include "geoseg.pb.h"
+#include "params/detector_params.hpp"
 #include "params/fusion_params.hpp"
 #include "params/geoseg_params.hpp"
 
@@ -28,6 +30,24 @@ TEST(ApplyParams, SetFieldsArriveAndTheOthersKeepTheirDeclaredDefaults) {
     EXPECT_FLOAT_EQ(seg.max_distance_m, GeosegParams::default_instance().max_distance_m());
     EXPECT_FLOAT_EQ(seg.max_distance_m, 0.01f);
     EXPECT_EQ(seg.absorb_iterations, 2);
+}
+
+TEST(ApplyParams, AServiceMessagesMarkedFieldsMakeAStruct) {
+    // The detector's thresholds are flat fields of DetectorServiceConfig marked
+    // (params_struct) = "DetectorParams"; the struct has those and nothing else.
+    DetectorServiceConfig message;
+    ASSERT_TRUE(google::protobuf::TextFormat::ParseFromString(
+        "model: \"simulated\" score_threshold: 0.4 input_width: 320 max_detections: 7", &message));
+    params::detector::DetectorParams d;
+    ASSERT_TRUE(apply_params(message, &d));
+    EXPECT_FLOAT_EQ(d.score_threshold, 0.4f);
+    EXPECT_EQ(d.input_width, 320);
+    EXPECT_EQ(d.max_detections, 7);
+    EXPECT_EQ(d.input_height, 640);  // declared default
+    EXPECT_FLOAT_EQ(d.nms_iou_threshold, DetectorServiceConfig::default_instance().nms_iou_threshold());
+    int fields = 0;
+    d.for_each_field([&](const params::FieldInfo&, const auto&) { ++fields; });
+    EXPECT_EQ(fields, 6);  // input_width, input_height, score, nms, threads, max_detections
 }
 
 TEST(ApplyParams, TheStructDefaultsAreTheDeclaredOnes) {
