@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "boxes/box_source.hpp"
+#include "config/apply_params.hpp"
 #include "capture.pb.h"
 #include "detect/detector.hpp"
 #include "mask_outputs.hpp"
@@ -129,6 +130,12 @@ class Segmenter {
                 log::info("masks: classes and kinds of ", s.mask_table_.size(),
                           " instances from the instances.json beside them");
         }
+        DF_RETURN_IF_ERROR(config::apply_params(c.geoseg(), &s.config_.geometric)
+                               .with_context("geoseg"));
+        DF_RETURN_IF_ERROR(config::apply_params(c.instances(), &s.config_.instances)
+                               .with_context("instances"));
+        if (std::string e = seg::validate(s.config_.geometric); !e.empty())
+            return error(StatusCode::kInvalidArgument, "geoseg." + e);
         if (!o.masks.empty() || o.dynamics == "off" || o.detector == "none") return s;
         config::DetectorServiceConfig d = c.detector();
         if (o.detector == "simulated") {

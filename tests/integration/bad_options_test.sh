@@ -29,6 +29,8 @@ slam_bad=(
   "slam { system { processing_downscale: 3 } }|slam.system.processing_downscale is 3, allowed: >= 1 and <= 2"
   "idle_exit_s: -1|idle_exit_s is -1, allowed: >= 0"
   "stage: \"\"|stage is empty, allowed: not empty"
+  "geoseg { min_segment_pixels: 0 }|geoseg.min_segment_pixels is 0, allowed: >= 1 and <= 307200"
+  "instances { min_iou: 2 }|instances.min_iou is 2, allowed: > 0 and <= 1"
 )
 for c in "${slam_bad[@]}"; do
   expect_refused "${c#*|}" "$BIN/df_slam" run --set "$udp" --set "${c%%|*}"
