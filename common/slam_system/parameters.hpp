@@ -1,7 +1,8 @@
 #pragma once
 /// The parameters of SystemConfig by dotted name ("tracking.icp_max_distance_m") with a one-line
-/// meaning, for configuration files, command-line overrides, logs and docs. Units and allowed
-/// ranges are declared once, in common/config/slam.proto (`df_slam params` prints them).
+/// meaning, for configuration files, command-line overrides, logs and docs. Derived from the
+/// structs generated from common/config/slam.proto, where each parameter (default, range, unit,
+/// meaning) is declared once (`df_slam params` prints them all).
 #include <cstddef>
 #include <string>
 #include <variant>

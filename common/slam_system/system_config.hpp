@@ -1,7 +1,8 @@
 #pragma once
-/// Every threshold of the static-scene SLAM system in one struct: preprocessing, tracking,
-/// surfel map, model prediction and the system's own choices. Units and defaults are documented
-/// where each field is declared; `parameters()` (parameters.hpp) lists them all by name for
+/// Every threshold of the SLAM system in one struct: preprocessing, tracking, surfel map, model
+/// prediction, the system's own choices, the dynamics and the object maps. Each is declared once,
+/// with its default, range, unit and meaning, in common/config/slam.proto (the section structs
+/// are generated from it); `parameters()` (parameters.hpp) lists them all by name for
 /// configuration files, flags and `df_slam params`.
 #include <string>
 
