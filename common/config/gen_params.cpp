@@ -1,9 +1,9 @@
 // df_gen_params OUT_DIR: writes the C++ parameter structs of the messages the .proto files
 // declare as parameter sets (SlamParams' sections in slam.proto, GeosegParams in geoseg.proto,
-// InstanceParams in fusion.proto, the detector's fields marked (params_struct)), with their defaults, one-line meanings, units and ranges, so
-// that each parameter is declared once, in its .proto (docs/slam.md, "Parameters"). Run by the
-// build (common/config/CMakeLists.txt); its output is <build>/generated/params/*.hpp, included
-// as "params/slam_params.hpp" and so on.
+// InstanceParams in fusion.proto, the detector's fields marked (params_struct)), with their
+// defaults, one-line meanings, units and ranges, so that each parameter is declared once, in its
+// .proto (docs/slam.md, "Parameters"). Run by the build (common/config/CMakeLists.txt); its
+// output is <build>/generated/params/*.hpp, included as "params/slam_params.hpp" and so on.
 #include <google/protobuf/descriptor.h>
 
 #include <cerrno>
@@ -114,7 +114,8 @@ std::string default_of(const FieldDescriptor* f) {
         std::string list;
         std::stringstream items(options.GetExtension(df::config::defaults));
         std::string item;
-        while (std::getline(items, item, ',')) list += (list.empty() ? "" : ", ") + literal(f, item);
+        while (std::getline(items, item, ','))
+            list += (list.empty() ? "" : ", ") + literal(f, item);
         return " = {" + list + "}";
     }
     if (options.HasExtension(df::config::defaults)) fail(f, "(defaults) is for repeated fields");
@@ -157,7 +158,7 @@ std::string info_of(const FieldDescriptor* f) {
     return s.str();
 }
 
-/// A comment block: `text` split into lines of at most ~96 characters.
+/// A comment block: `text` split into lines of about 90 characters.
 std::string comment(const std::string& text, const std::string& indent) {
     std::string out, line;
     std::stringstream words(text);
@@ -189,7 +190,9 @@ void emit_struct(const Descriptor* d, const std::string& name, const std::string
                  const std::string& indent, std::ostringstream& out) {
     const std::vector<const FieldDescriptor*> fields = fields_of(d, name);
     if (fields.empty()) throw std::runtime_error(d->full_name() + ": no fields for " + name);
-    out << comment(d->full_name() + (name == d->name() ? "" : ", the fields marked (params_struct) = \"" + name + "\"") + " (" + source + ").", indent);
+    const std::string marked =
+        name == d->name() ? "" : ", the fields marked (params_struct) = \"" + name + "\"";
+    out << comment(d->full_name() + marked + " (" + source + ").", indent);
     out << indent << "struct " << name << " {\n";
     const std::string in = indent + "    ";
     // The nested messages its fields use become nested structs.

@@ -65,19 +65,11 @@ void add_fields(const std::string& prefix, S& s, std::vector<Parameter>* out) {
 }  // namespace
 
 std::vector<Parameter> parameters(SystemConfig* c) {
-    // The sections of slam.proto's SlamParams and where SystemConfig holds each; the fields
-    // themselves come from the generated structs (declared once, in slam.proto).
+    // The fields come from the generated structs (declared once, in slam.proto).
     std::vector<Parameter> out;
-    add_fields("preprocess.", c->preprocess, &out);
-    add_fields("tracking.", c->tracking, &out);
-    add_fields("map.", c->map, &out);
-    add_fields("prediction.", static_cast<params::slam::Prediction&>(c->prediction), &out);
-    add_fields("system.", c->system, &out);
-    add_fields("dynamics.", static_cast<params::slam::Dynamics&>(c->dynamics), &out);
-    add_fields("motion.", c->dynamics.motion, &out);
-    add_fields("invalid.", c->dynamics.invalid, &out);
-    add_fields("memory.", c->dynamics.memory, &out);
-    add_fields("objects.", c->objects, &out);
+    for_each_section(c, [&out](const char* name, auto& section) {
+        add_fields(std::string(name) + ".", section, &out);
+    });
     return out;
 }
 

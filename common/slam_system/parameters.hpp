@@ -20,6 +20,22 @@ struct Parameter {
         value;  ///< points into the SystemConfig the table was made for
 };
 
+/// Calls f(name, section) for each section of slam.proto's SlamParams ("preprocess", ...) with
+/// the generated struct SystemConfig holds it as: where each section lives is said here only.
+template <class F>
+void for_each_section(SystemConfig* c, F&& f) {
+    f("preprocess", c->preprocess);
+    f("tracking", c->tracking);
+    f("map", c->map);
+    f("prediction", static_cast<params::slam::Prediction&>(c->prediction));
+    f("system", c->system);
+    f("dynamics", static_cast<params::slam::Dynamics&>(c->dynamics));
+    f("motion", c->dynamics.motion);
+    f("invalid", c->dynamics.invalid);
+    f("memory", c->dynamics.memory);
+    f("objects", c->objects);
+}
+
 /// Every parameter of `config` (pointers into it; the table is valid while config is).
 std::vector<Parameter> parameters(SystemConfig* config);
 

@@ -4,10 +4,10 @@
 #include <google/protobuf/reflection.h>
 #include <google/protobuf/text_format.h>
 
-#include <map>
 #include <set>
 #include <variant>
 
+#include "config/apply_params.hpp"
 #include "config/validate.hpp"
 #include "slam_system/parameters.hpp"
 
@@ -15,45 +15,7 @@ namespace df::slam {
 namespace {
 
 using google::protobuf::FieldDescriptor;
-using google::protobuf::Message;
 using google::protobuf::Reflection;
-
-/// Text of a scalar field (or of the repeated field's elements, comma separated), in the form
-/// slam::set_value reads.
-std::string field_text(const Message& m, const FieldDescriptor* f) {
-    const Reflection* r = m.GetReflection();
-    auto one = [&](int i) -> std::string {
-        const bool rep = f->is_repeated();
-        switch (f->cpp_type()) {
-            case FieldDescriptor::CPPTYPE_FLOAT: {
-                char buffer[64];
-                snprintf(buffer, sizeof buffer, "%.9g",
-                         rep ? r->GetRepeatedFloat(m, f, i) : r->GetFloat(m, f));
-                return buffer;
-            }
-            case FieldDescriptor::CPPTYPE_DOUBLE: {
-                char buffer[64];
-                snprintf(buffer, sizeof buffer, "%.17g",
-                         rep ? r->GetRepeatedDouble(m, f, i) : r->GetDouble(m, f));
-                return buffer;
-            }
-            case FieldDescriptor::CPPTYPE_INT32:
-                return std::to_string(rep ? r->GetRepeatedInt32(m, f, i) : r->GetInt32(m, f));
-            case FieldDescriptor::CPPTYPE_UINT64:
-                return std::to_string(rep ? r->GetRepeatedUInt64(m, f, i) : r->GetUInt64(m, f));
-            case FieldDescriptor::CPPTYPE_UINT32:
-                return std::to_string(rep ? r->GetRepeatedUInt32(m, f, i) : r->GetUInt32(m, f));
-            case FieldDescriptor::CPPTYPE_BOOL:
-                return (rep ? r->GetRepeatedBool(m, f, i) : r->GetBool(m, f)) ? "true" : "false";
-            default:
-                return "";
-        }
-    };
-    if (!f->is_repeated()) return one(0);
-    std::string text;
-    for (int i = 0; i < r->FieldSize(m, f); ++i) text += (i ? "," : "") + one(i);
-    return text;
-}
 
 void add_names(const google::protobuf::Descriptor* d, const std::string& prefix,
                std::set<std::string>* names) {
@@ -71,27 +33,6 @@ std::set<std::string> proto_names() {
     std::set<std::string> names;
     add_names(config::SlamParams::descriptor(), "", &names);
     return names;
-}
-
-/// Sets every field set in `m` (nested messages walked) on the parameter of its dotted name.
-Status apply_fields(const Message& m, const std::string& prefix,
-                    const std::map<std::string, slam::Parameter>& table) {
-    std::vector<const FieldDescriptor*> fields;
-    m.GetReflection()->ListFields(m, &fields);
-    for (const FieldDescriptor* f : fields) {
-        const std::string name = prefix + f->name();
-        if (f->cpp_type() == FieldDescriptor::CPPTYPE_MESSAGE) {
-            DF_RETURN_IF_ERROR(apply_fields(m.GetReflection()->GetMessage(m, f), name + ".", table));
-            continue;
-        }
-        auto it = table.find(name);
-        if (it == table.end()) {
-            return error(StatusCode::kInvalidArgument,
-                         "slam." + name + " is in slam.proto but not a SLAM parameter");
-        }
-        DF_RETURN_IF_ERROR(slam::set_value(it->second, field_text(m, f)));
-    }
-    return Status::ok();
 }
 
 /// The descriptor of the field a dotted parameter name ("objects.association.min_overlap")
@@ -113,9 +54,21 @@ const FieldDescriptor* field_named(const std::string& name) {
 }  // namespace
 
 Status apply(const config::SlamParams& params, slam::SystemConfig* config) {
-    std::map<std::string, slam::Parameter> table;
-    for (slam::Parameter& p : slam::parameters(config)) table.emplace(p.name, p);
-    return apply_fields(params, "", table);
+    const google::protobuf::Descriptor* d = params.GetDescriptor();
+    const Reflection* r = params.GetReflection();
+    Status status = Status::ok();
+    slam::for_each_section(config, [&](const char* name, auto& section) {
+        if (!status) return;
+        const FieldDescriptor* f = d->FindFieldByName(name);
+        if (f == nullptr) {
+            status = error(StatusCode::kInvalidArgument,
+                           std::string("slam.proto has no section ") + name);
+        } else if (r->HasField(params, f)) {
+            status = config::apply_params(r->GetMessage(params, f), &section)
+                         .with_context(std::string("slam.") + name);
+        }
+    });
+    return status;
 }
 
 config::SlamParams to_params(const slam::SystemConfig& config) {

@@ -11,8 +11,8 @@
 
 namespace df::slam {
 
-/// Applies every field set in `params` to `config`. kInvalidArgument naming the field when a
-/// field has no parameter of that name (the proto and the table disagree).
+/// Applies every field set in `params` to `config` (config::apply_params per section).
+/// kInvalidArgument naming the section when the proto and the generated structs disagree.
 Status apply(const config::SlamParams& params, SystemConfig* config);
 
 /// The values of `config` as a SlamParams with every field set (for checking the library's
