@@ -78,10 +78,17 @@ Result<MotionResult> segment_motion(const MotionInput& in, const MotionSegmentat
             if (a > out.clusters.threshold && a > floor_m) {
                 d[x] = 255;
                 ++out.dynamic_pixels;
-            } else if (photo != nullptr) {
-                const float p = photo->ptr<float>(y)[x];
-                if (std::isfinite(p) && p > c.min_photometric) d[x] = 128;  // evidence only
+                continue;
             }
+            if (photo != nullptr) {
+                const float p = photo->ptr<float>(y)[x];
+                if (std::isfinite(p) && p > c.min_photometric) {
+                    d[x] = 128;  // evidence only
+                    continue;
+                }
+            }
+            if (a > c.region_grow_fraction * floor_m)
+                d[x] = 64;  // weak: grows a region, never counts as a segment's evidence
         }
     }
     if (out.dynamic_pixels == 0 ||
@@ -89,8 +96,9 @@ Result<MotionResult> segment_motion(const MotionInput& in, const MotionSegmentat
             c.min_dynamic_fraction * static_cast<float>(out.residual_pixels))
         return out;
 
-    // 3. Grow to whole objects: segments with enough evidence, or (no segments) large regions.
-    if (!in.geometric.empty() && in.geometric_count > 0) {
+    // 3. Grow to whole objects: segments with enough evidence ...
+    const bool with_segments = !in.geometric.empty() && in.geometric_count > 0;
+    if (with_segments) {
         const size_t n = static_cast<size_t>(in.geometric_count) + 1;
         std::vector<int> with_residual(n, 0), dyn(n, 0), geometric_dyn(n, 0), carried(n, 0),
             size(n, 0);
@@ -105,7 +113,7 @@ Result<MotionResult> segment_motion(const MotionInput& in, const MotionSegmentat
                 if (s == 0 || (ex && ex[x])) continue;
                 ++size[s];
                 with_residual[s] += std::isfinite(r[x]) ? 1 : 0;
-                dyn[s] += d[x] ? 1 : 0;
+                dyn[s] += (d[x] == 255 || d[x] == 128) ? 1 : 0;
                 geometric_dyn[s] += d[x] == 255 ? 1 : 0;
                 carried[s] += (cm && cm[x]) ? 1 : 0;
             }
@@ -129,13 +137,25 @@ Result<MotionResult> segment_motion(const MotionInput& in, const MotionSegmentat
             for (int x = 0; x < cols; ++x)
                 if (take[static_cast<size_t>(g[x])] && !(ex && ex[x])) m[x] = 255;
         }
-    } else {
+    }
+    // ... and, outside every segment (far or small things the segmentation left unlabelled, or
+    // everything when no segments came), connected regions of dynamic and weak pixels
+    // (hysteresis) with at least min_region_pixels dynamic ones.
+    {
+        cv::Mat candidate = dynamic > 0;
+        if (with_segments) candidate.setTo(0, in.geometric != 0);
         cv::Mat labels, stats, centroids;
-        const int count =
-            cv::connectedComponentsWithStats(dynamic == 255, labels, stats, centroids, 8);
+        const int count = cv::connectedComponentsWithStats(candidate, labels, stats, centroids, 8);
+        std::vector<int> strong(static_cast<size_t>(count), 0);
+        for (int y = 0; y < rows; ++y) {
+            const int* l = labels.ptr<int>(y);
+            const uint8_t* d = dynamic.ptr<uint8_t>(y);
+            for (int x = 0; x < cols; ++x)
+                if (d[x] == 255) ++strong[static_cast<size_t>(l[x])];
+        }
         std::vector<uint8_t> take(static_cast<size_t>(count), 0);
         for (int k = 1; k < count; ++k) {
-            if (stats.at<int>(k, cv::CC_STAT_AREA) >= c.min_region_pixels) {
+            if (strong[static_cast<size_t>(k)] >= c.min_region_pixels) {
                 take[static_cast<size_t>(k)] = 255;
                 ++out.segments;
             }
@@ -143,7 +163,8 @@ Result<MotionResult> segment_motion(const MotionInput& in, const MotionSegmentat
         for (int y = 0; y < rows; ++y) {
             const int* l = labels.ptr<int>(y);
             uint8_t* m = out.mask.ptr<uint8_t>(y);
-            for (int x = 0; x < cols; ++x) m[x] = take[static_cast<size_t>(l[x])];
+            for (int x = 0; x < cols; ++x)
+                if (take[static_cast<size_t>(l[x])]) m[x] = 255;
         }
     }
     if (c.dilate_px > 0 && out.segments > 0) {

@@ -307,7 +307,9 @@ Status SlamSystem::track_static(const Input& in, const Eigen::Isometry3d& guess,
     if (d.motion_segmentation) {
         t = std::chrono::steady_clock::now();
         cv::Mat photometric;
-        Result<cv::Mat> r = static_.residuals(in.frame, stage1_pose, config_.tracking,
+        TrackingConfig residual_config = config_.tracking;
+        residual_config.max_depth_m = d.motion.max_depth_m;  // motion looks farther (0: all)
+        Result<cv::Mat> r = static_.residuals(in.frame, stage1_pose, residual_config,
                                               d.motion.min_photometric > 0 ? &photometric : nullptr);
         if (!r) return r.status();
         residual = std::move(r).value();

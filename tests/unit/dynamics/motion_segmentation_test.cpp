@@ -166,6 +166,39 @@ TEST(MotionSegmentation, ATexturedObjectTurningInPlaceIsFoundByItsIntensityChang
     EXPECT_EQ(cv::countNonZero(none->mask), 0);
 }
 
+TEST(MotionSegmentation, AFarMoverNoSegmentHoldsIsFoundAsARegionGrownOverItsWeakerPixels) {
+    // A small thing at 4 m that the geometric segmentation left unlabelled (its segments fell
+    // under the minimum size): 0 in the segment image. At 4 m the noise floor is 0.11 m; half
+    // of its pixels (a checkerboard) are above it, the other half at 0.1 m, above
+    // region_grow_fraction (0.85) of the floor, but not the floor itself.
+    Scene s = make_scene(true, 0.15f, 9);
+    const cv::Rect box(60, 40, 40, 30);
+    for (int y = box.y; y < box.y + box.height; ++y) {
+        for (int x = box.x; x < box.x + box.width; ++x) {
+            s.geometric.at<int>(y, x) = 0;
+            s.depth.at<float>(y, x) = 4.f;
+            s.residual.at<float>(y, x) = ((x + y) % 2 == 0) ? 0.15f : 0.1f;
+        }
+    }
+    MotionSegmentationConfig c;
+    c.dilate_px = 0;
+    auto grown = segment_motion(input_of(s), c);
+    ASSERT_TRUE(grown.is_ok()) << grown.status().message();
+    EXPECT_EQ(grown->segments, 1);
+    EXPECT_GT(iou(grown->mask, s.truth), 0.99);
+    // Without growing, only the pixels above the floor: half of it.
+    c.region_grow_fraction = 1.f;
+    auto strong_only = segment_motion(input_of(s), c);
+    ASSERT_TRUE(strong_only.is_ok());
+    EXPECT_NEAR(iou(strong_only->mask, s.truth), 0.5, 0.02);
+    // Too few dynamic pixels for a region: nothing.
+    c.region_grow_fraction = MotionSegmentationConfig{}.region_grow_fraction;
+    c.min_region_pixels = 700;
+    auto too_small = segment_motion(input_of(s), c);
+    ASSERT_TRUE(too_small.is_ok());
+    EXPECT_EQ(cv::countNonZero(too_small->mask), 0);
+}
+
 TEST(MotionSegmentation, WarpMaskFollowsTheCameraMotion) {
     // A fronto-parallel plane at 2 m; the camera moved 0.1 m to the right, so a point seen at
     // pixel u before is at u - f * 0.1 / 2 now.
