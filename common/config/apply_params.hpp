@@ -31,6 +31,8 @@ T get(const google::protobuf::Message& m, const google::protobuf::FieldDescripto
         return rep ? r->GetRepeatedInt32(m, f, i) : r->GetInt32(m, f);
     } else if constexpr (std::is_same_v<T, unsigned>) {
         return rep ? r->GetRepeatedUInt32(m, f, i) : r->GetUInt32(m, f);
+    } else if constexpr (std::is_same_v<T, std::string>) {
+        return rep ? r->GetRepeatedString(m, f, i) : r->GetString(m, f);
     } else if constexpr (std::is_same_v<T, long long>) {
         return static_cast<T>(rep ? r->GetRepeatedInt64(m, f, i) : r->GetInt64(m, f));
     } else {
@@ -53,14 +55,14 @@ Status apply_params(const google::protobuf::Message& message, S* out) {
         if (!status) return;
         const google::protobuf::FieldDescriptor* f = d->FindFieldByName(info.name);
         if (f == nullptr) {
-            status = error(StatusCode::kInvalidArgument,
-                           d->full_name() + " has no field " + info.name);
+            status =
+                error(StatusCode::kInvalidArgument, d->full_name() + " has no field " + info.name);
             return;
         }
         using T = std::decay_t<decltype(value)>;
         if constexpr (params::detail::is_struct<T>::value) {
             if (r->HasField(message, f)) status = apply_params(r->GetMessage(message, f), &value);
-        } else if constexpr (std::is_arithmetic_v<T>) {
+        } else if constexpr (std::is_arithmetic_v<T> || std::is_same_v<T, std::string>) {
             if (r->HasField(message, f)) value = detail::get<T>(message, f, -1);
         } else {
             if (r->FieldSize(message, f) == 0) return;

@@ -17,10 +17,10 @@
 #include <vector>
 
 #include "config/validate.hpp"
-#include "options.pb.h"
 #include "detector.pb.h"
 #include "fusion.pb.h"
 #include "geoseg.pb.h"
+#include "options.pb.h"
 #include "slam.pb.h"
 
 namespace {
@@ -76,6 +76,8 @@ std::string scalar_type(const FieldDescriptor* f) {
             return "std::size_t";
         case FieldDescriptor::CPPTYPE_BOOL:
             return "bool";
+        case FieldDescriptor::CPPTYPE_STRING:
+            return "std::string";
         case FieldDescriptor::CPPTYPE_MESSAGE:
             return f->message_type()->name();
         default:
@@ -98,6 +100,8 @@ std::string literal(const FieldDescriptor* f, const std::string& text) {
         case FieldDescriptor::CPPTYPE_BOOL:
             if (text != "true" && text != "false") fail(f, "default '" + text + "' is not a bool");
             return text;
+        case FieldDescriptor::CPPTYPE_STRING:
+            return quoted(text);
         default: {
             const long long v = std::strtoll(text.c_str(), &end, 10);
             if (end == text.c_str() || *end != '\0' || errno != 0)
@@ -136,6 +140,8 @@ std::string default_of(const FieldDescriptor* f) {
             return " = " + std::to_string(f->default_value_uint64()) + "u";
         case FieldDescriptor::CPPTYPE_BOOL:
             return f->default_value_bool() ? " = true" : " = false";
+        case FieldDescriptor::CPPTYPE_STRING:
+            return " = " + quoted(f->default_value_string());
         default:
             return fail(f, "type not supported in a parameter set");
     }
@@ -149,12 +155,12 @@ std::string info_of(const FieldDescriptor* f) {
     std::ostringstream s;
     s << "{" << quoted(f->name()) << ", " << quoted(df::config::unit_of(f)) << ", "
       << quoted(options.GetExtension(df::config::doc)) << ", "
-      << quoted(f->cpp_type() == FieldDescriptor::CPPTYPE_MESSAGE ? ""
-                                                                  : df::config::rule_text(f))
+      << quoted(f->cpp_type() == FieldDescriptor::CPPTYPE_MESSAGE ? "" : df::config::rule_text(f))
       << ", " << (has_range && r.has_min() ? "true" : "false") << ", " << number(r.min()) << ", "
       << (r.min_exclusive() ? "true" : "false") << ", "
       << (has_range && r.has_max() ? "true" : "false") << ", " << number(r.max()) << ", "
-      << (r.max_exclusive() ? "true" : "false") << "}";
+      << (r.max_exclusive() ? "true" : "false") << ", "
+      << (options.GetExtension(df::config::non_empty) ? "true" : "false") << "}";
     return s.str();
 }
 
@@ -223,8 +229,8 @@ void emit_struct(const Descriptor* d, const std::string& name, const std::string
     out << in << "};\n";
     for (const char* constness : {"", " const"}) {
         out << in << "/// Calls f(kFields[i], field) for every field, in declaration order.\n";
-        out << in << "template <class F>\n" << in << "void for_each_field(F&& f)" << constness
-            << " {\n";
+        out << in << "template <class F>\n"
+            << in << "void for_each_field(F&& f)" << constness << " {\n";
         for (size_t i = 0; i < n; ++i)
             out << in << "    f(kFields[" << i << "], " << fields[i]->name() << ");\n";
         out << in << "}\n";
@@ -249,7 +255,8 @@ std::string header(const Unit& unit) {
            "// "
         << unit.proto
         << ": do not edit; declare parameters there.\n"
-           "#include <cstddef>\n#include <vector>\n\n#include \"params/field_info.hpp\"\n\n"
+           "#include <cstddef>\n#include <string>\n#include <vector>\n\n#include "
+           "\"params/field_info.hpp\"\n\n"
            "namespace df::params::"
         << unit.ns << " {\n\n";
     for (const auto& [d, name] : unit.messages) {
@@ -273,11 +280,19 @@ int main(int argc, char** argv) {
     for (int i = 0; i < top->nested_type_count(); ++i)
         slam.messages.emplace_back(top->nested_type(i), top->nested_type(i)->name());
     units.push_back(slam);
-    units.push_back({"geoseg_params.hpp", "common/config/geoseg.proto", "geoseg",
+    units.push_back({"geoseg_params.hpp",
+                     "common/config/geoseg.proto",
+                     "geoseg",
                      {{df::config::GeosegParams::descriptor(), "GeosegParams"}}});
-    units.push_back({"fusion_params.hpp", "common/config/fusion.proto", "fusion",
-                     {{df::config::InstanceParams::descriptor(), "InstanceParams"}}});
-    units.push_back({"detector_params.hpp", "common/config/detector.proto", "detector",
+    units.push_back({"fusion_params.hpp",
+                     "common/config/fusion.proto",
+                     "fusion",
+                     {{df::config::InstanceParams::descriptor(), "InstanceParams"},
+                      {df::config::ClassParams::descriptor(), "ClassParams"},
+                      {df::config::FusionServiceConfig::descriptor(), "JoinParams"}}});
+    units.push_back({"detector_params.hpp",
+                     "common/config/detector.proto",
+                     "detector",
                      {{df::config::DetectorServiceConfig::descriptor(), "DetectorParams"}}});
     for (const Unit& unit : units) {
         std::string text;

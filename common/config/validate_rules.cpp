@@ -8,19 +8,21 @@
 #include "detector.pb.h"
 #include "fusion.pb.h"
 #include "geoseg.pb.h"
+#include "slam.pb.h"
 
 namespace df::config {
 namespace {
 
 Status invalid(const std::string& message) { return error(StatusCode::kInvalidArgument, message); }
 
-Status fusion_rules(const FusionServiceConfig& c) {
-    const std::set<std::string> rigid(c.rigid_classes().begin(), c.rigid_classes().end());
-    for (const std::string& name : c.non_rigid_classes()) {
+Status class_rules(const ClassParams& c, const std::string& where) {
+    const std::set<std::string> rigid(c.rigid().begin(), c.rigid().end());
+    for (const std::string& name : c.non_rigid()) {
         if (rigid.count(name)) {
-            return invalid("class '" + name +
-                           "' is listed in both rigid_classes and non_rigid_classes; an instance "
-                           "is one or the other: remove it from one list");
+            return invalid("class '" + name + "' is listed in both " + where + ".rigid and " +
+                           where +
+                           ".non_rigid; an instance is one or the other: remove it from "
+                           "one list");
         }
     }
     return Status::ok();
@@ -71,7 +73,11 @@ Status check_rules(const google::protobuf::Message& message) {
     const std::string& type = message.GetDescriptor()->full_name();
     // The generated types are known here; a dynamic message of the same type is left alone.
     if (type == FusionServiceConfig::descriptor()->full_name()) {
-        if (auto* c = dynamic_cast<const FusionServiceConfig*>(&message)) return fusion_rules(*c);
+        if (auto* c = dynamic_cast<const FusionServiceConfig*>(&message))
+            return class_rules(c->classes(), "classes");
+    } else if (type == SlamServiceConfig::descriptor()->full_name()) {
+        if (auto* c = dynamic_cast<const SlamServiceConfig*>(&message))
+            return class_rules(c->classes(), "classes");
     } else if (type == DetectorServiceConfig::descriptor()->full_name()) {
         if (auto* c = dynamic_cast<const DetectorServiceConfig*>(&message))
             return detector_rules(*c);

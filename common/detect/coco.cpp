@@ -1,6 +1,7 @@
 /// COCO names, default model locations and the DetectorConfig helpers.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 
 #include "detect/detector.hpp"
@@ -64,10 +65,30 @@ std::string default_yolov5_dir() {
     return default_models_dir() + "/yolov5s";
 }
 
-ClassKind DetectorConfig::kind_of(const std::string& class_name) const {
-    if (non_rigid_classes.count(class_name) != 0) return ClassKind::kNonRigid;
-    if (rigid_classes.count(class_name) != 0) return ClassKind::kRigid;
+ClassKind class_kind(const params::fusion::ClassParams& classes, const std::string& class_name) {
+    const auto has = [&class_name](const std::vector<std::string>& list) {
+        return std::find(list.begin(), list.end(), class_name) != list.end();
+    };
+    if (has(classes.non_rigid)) return ClassKind::kNonRigid;
+    if (has(classes.rigid)) return ClassKind::kRigid;
     return ClassKind::kIgnored;
+}
+
+Status check_class_names(const params::fusion::ClassParams& classes) {
+    const auto& names = coco_names();
+    for (const auto* list : {&classes.rigid, &classes.non_rigid}) {
+        for (const std::string& n : *list) {
+            if (std::find(names.begin(), names.end(), n) == names.end()) {
+                return error(StatusCode::kInvalidArgument,
+                             "class '" + n + "' is not a COCO class name (see coco.names)");
+            }
+        }
+    }
+    return Status::ok();
+}
+
+ClassKind DetectorConfig::kind_of(const std::string& class_name) const {
+    return class_kind(classes, class_name);
 }
 
 float DetectorConfig::threshold_for(const std::string& class_name) const {

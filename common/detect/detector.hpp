@@ -13,6 +13,7 @@
 #include "core/status.hpp"
 #include "detect/detection.hpp"
 #include "params/detector_params.hpp"
+#include "params/fusion_params.hpp"
 
 namespace df::detect {
 
@@ -56,13 +57,9 @@ struct DetectorConfig : params::detector::DetectorParams {
     std::map<std::string, float> class_score_thresholds;
 
     /// Classes that are rigid objects (get their own map downstream) and non-rigid ones (only
-    /// masked out). Every other class is kIgnored.
-    std::set<std::string> rigid_classes = {
-        "bicycle",  "car",      "motorbike",   "bus",         "truck",      "bench",  "backpack",
-        "umbrella", "handbag",  "suitcase",    "bottle",      "wine glass", "cup",    "bowl",
-        "chair",    "sofa",     "pottedplant", "diningtable", "tvmonitor",  "laptop", "mouse",
-        "remote",   "keyboard", "cell phone",  "microwave",   "book",       "vase",   "teddy bear"};
-    std::set<std::string> non_rigid_classes = {"person"};
+    /// masked out); every other class is kIgnored. Declared (with the default lists) once, in
+    /// common/config/fusion.proto (ClassParams).
+    params::fusion::ClassParams classes;
     /// Drop detections whose class is kIgnored (default false: report every class).
     bool drop_ignored_classes = false;
 
@@ -71,6 +68,12 @@ struct DetectorConfig : params::detector::DetectorParams {
     /// The score threshold for class_name.
     float threshold_for(const std::string& class_name) const;
 };
+
+/// How downstream treats class_name under `classes` (non-rigid wins; a class in neither list is
+/// kIgnored).
+ClassKind class_kind(const params::fusion::ClassParams& classes, const std::string& class_name);
+/// kInvalidArgument naming the first class of `classes` that is not a COCO class name.
+Status check_class_names(const params::fusion::ClassParams& classes);
 
 /// One loaded model. Not thread-safe: use one Detector per thread.
 class Detector {

@@ -1,5 +1,6 @@
 #include "dynamics/motion_segmentation.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -26,14 +27,22 @@ std::string check_inputs(const MotionInput& in) {
     };
     if (in.residual_m.empty() || in.residual_m.type() != CV_32F)
         return "residual_m must be CV_32FC1, got " + describe(in.residual_m);
-    for (const std::string& e : {bad("depth_m", in.depth_m, CV_32F, false),
-                                 bad("excluded", in.excluded, CV_8UC1, true),
-                                 bad("geometric", in.geometric, CV_32SC1, true),
-                                 bad("carried", in.carried, CV_8UC1, true),
-                                 bad("photometric", in.photometric, CV_32F, true)})
+    for (const std::string& e :
+         {bad("depth_m", in.depth_m, CV_32F, false), bad("excluded", in.excluded, CV_8UC1, true),
+          bad("geometric", in.geometric, CV_32SC1, true), bad("carried", in.carried, CV_8UC1, true),
+          bad("photometric", in.photometric, CV_32F, true),
+          bad("history", in.history, CV_8UC1, true)})
         if (!e.empty()) return e;
     if (in.geometric_count < 0) return "geometric_count must be >= 0";
     return "";
+}
+
+/// Whether a segment or region that is dynamic by its residual is still by its history:
+/// `seen` of its `size` pixels have evidence, `moved` of them were seen through.
+bool still(int size, int seen, int moved, const MotionSegmentationConfig& c) {
+    return c.history_frames > 0 && seen > 0 &&
+           static_cast<float>(seen) >= c.history_min_seen * static_cast<float>(size) &&
+           static_cast<float>(moved) <= c.history_max_moved * static_cast<float>(seen);
 }
 
 }  // namespace
@@ -101,17 +110,20 @@ Result<MotionResult> segment_motion(const MotionInput& in, const MotionSegmentat
     if (with_segments) {
         const size_t n = static_cast<size_t>(in.geometric_count) + 1;
         std::vector<int> with_residual(n, 0), dyn(n, 0), geometric_dyn(n, 0), carried(n, 0),
-            size(n, 0);
+            size(n, 0), seen(n, 0), moved(n, 0);
         for (int y = 0; y < rows; ++y) {
             const int* g = in.geometric.ptr<int>(y);
             const float* r = in.residual_m.ptr<float>(y);
             const uint8_t* d = dynamic.ptr<uint8_t>(y);
             const uint8_t* cm = in.carried.empty() ? nullptr : in.carried.ptr<uint8_t>(y);
             const uint8_t* ex = in.excluded.empty() ? nullptr : in.excluded.ptr<uint8_t>(y);
+            const uint8_t* h = in.history.empty() ? nullptr : in.history.ptr<uint8_t>(y);
             for (int x = 0; x < cols; ++x) {
                 const size_t s = static_cast<size_t>(g[x]);
                 if (s == 0 || (ex && ex[x])) continue;
                 ++size[s];
+                seen[s] += (h && h[x] != kNoEvidence) ? 1 : 0;
+                moved[s] += (h && h[x] == kMoved) ? 1 : 0;
                 with_residual[s] += std::isfinite(r[x]) ? 1 : 0;
                 dyn[s] += (d[x] == 255 || d[x] == 128) ? 1 : 0;
                 geometric_dyn[s] += d[x] == 255 ? 1 : 0;
@@ -122,13 +134,16 @@ Result<MotionResult> segment_motion(const MotionInput& in, const MotionSegmentat
         for (size_t s = 1; s < n; ++s) {
             if (geometric_dyn[s] < c.min_segment_pixels || with_residual[s] == 0) continue;
             const bool was_dynamic =
-                size[s] > 0 && static_cast<float>(carried[s]) >=
-                                   c.carry_min_overlap * static_cast<float>(size[s]);
+                size[s] > 0 &&
+                static_cast<float>(carried[s]) >= c.carry_min_overlap * static_cast<float>(size[s]);
             const float need = was_dynamic ? c.carried_segment_fraction : c.min_segment_fraction;
-            if (static_cast<float>(dyn[s]) >= need * static_cast<float>(with_residual[s])) {
-                take[s] = 255;
-                ++out.segments;
+            if (static_cast<float>(dyn[s]) < need * static_cast<float>(with_residual[s])) continue;
+            if (still(size[s], seen[s], moved[s], c)) {
+                ++out.still_segments;
+                continue;
             }
+            take[s] = 255;
+            ++out.segments;
         }
         for (int y = 0; y < rows; ++y) {
             const int* g = in.geometric.ptr<int>(y);
@@ -146,19 +161,29 @@ Result<MotionResult> segment_motion(const MotionInput& in, const MotionSegmentat
         if (with_segments) candidate.setTo(0, in.geometric != 0);
         cv::Mat labels, stats, centroids;
         const int count = cv::connectedComponentsWithStats(candidate, labels, stats, centroids, 8);
-        std::vector<int> strong(static_cast<size_t>(count), 0);
+        const size_t n = static_cast<size_t>(count);
+        std::vector<int> strong(n, 0), seen(n, 0), moved(n, 0);
         for (int y = 0; y < rows; ++y) {
             const int* l = labels.ptr<int>(y);
             const uint8_t* d = dynamic.ptr<uint8_t>(y);
-            for (int x = 0; x < cols; ++x)
-                if (d[x] == 255) ++strong[static_cast<size_t>(l[x])];
-        }
-        std::vector<uint8_t> take(static_cast<size_t>(count), 0);
-        for (int k = 1; k < count; ++k) {
-            if (strong[static_cast<size_t>(k)] >= c.min_region_pixels) {
-                take[static_cast<size_t>(k)] = 255;
-                ++out.segments;
+            const uint8_t* h = in.history.empty() ? nullptr : in.history.ptr<uint8_t>(y);
+            for (int x = 0; x < cols; ++x) {
+                const size_t k = static_cast<size_t>(l[x]);
+                if (d[x] == 255) ++strong[k];
+                seen[k] += (h && h[x] != kNoEvidence) ? 1 : 0;
+                moved[k] += (h && h[x] == kMoved) ? 1 : 0;
             }
+        }
+        std::vector<uint8_t> take(n, 0);
+        for (size_t k = 1; k < n; ++k) {
+            if (strong[k] < c.min_region_pixels) continue;
+            const int size = stats.at<int>(static_cast<int>(k), cv::CC_STAT_AREA);
+            if (still(size, seen[k], moved[k], c)) {
+                ++out.still_segments;
+                continue;
+            }
+            take[k] = 255;
+            ++out.segments;
         }
         for (int y = 0; y < rows; ++y) {
             const int* l = labels.ptr<int>(y);
@@ -198,6 +223,44 @@ cv::Mat warp_mask(const cv::Mat& previous, const cv::Mat& vertex,
             const int w = static_cast<int>(std::lround(fy * q.y() / q.z() + cy));
             if (u < 0 || w < 0 || u >= previous.cols || w >= previous.rows) continue;
             o[x] = previous.at<uint8_t>(w, u);
+        }
+    }
+    return out;
+}
+
+cv::Mat history_evidence(const cv::Mat& vertex, const cv::Mat& residual_m, const cv::Mat& old_depth,
+                         const cv::Mat& old_rigid, const Eigen::Isometry3f& old_T_current, float fx,
+                         float fy, float cx, float cy, const MotionSegmentationConfig& c) {
+    cv::Mat out = cv::Mat::zeros(vertex.size(), CV_8UC1);
+    if (old_depth.empty() || old_depth.type() != CV_32F || vertex.type() != CV_32FC3) return out;
+    const bool with_residual =
+        !residual_m.empty() && residual_m.type() == CV_32F && residual_m.size() == vertex.size();
+    const bool with_rigid =
+        !old_rigid.empty() && old_rigid.type() == CV_8UC1 && old_rigid.size() == old_depth.size();
+    const Eigen::Matrix3f r = old_T_current.linear();
+    const Eigen::Vector3f t = old_T_current.translation();
+    for (int y = 0; y < vertex.rows; ++y) {
+        const cv::Vec3f* v = vertex.ptr<cv::Vec3f>(y);
+        const float* res = with_residual ? residual_m.ptr<float>(y) : nullptr;
+        uint8_t* o = out.ptr<uint8_t>(y);
+        for (int x = 0; x < vertex.cols; ++x) {
+            if (!(v[x][2] > 0.f)) continue;
+            const Eigen::Vector3f q = r * Eigen::Vector3f(v[x][0], v[x][1], v[x][2]) + t;
+            if (!(q.z() > 0.f)) continue;
+            const int u = static_cast<int>(std::lround(fx * q.x() / q.z() + cx));
+            const int w = static_cast<int>(std::lround(fy * q.y() / q.z() + cy));
+            if (u < 0 || w < 0 || u >= old_depth.cols || w >= old_depth.rows) continue;
+            const float seen = old_depth.at<float>(w, u);
+            if (!(seen > 0.f)) continue;
+            const float split =
+                (res && std::isfinite(res[x]))
+                    ? std::max(c.min_residual_m, c.history_split * std::fabs(res[x]))
+                    : c.min_residual_m + c.min_residual_per_m2 * q.z() * q.z();
+            if (seen > q.z() + split) {
+                o[x] = kMoved;
+            } else if (seen >= q.z() - split && (!with_rigid || old_rigid.at<uint8_t>(w, u))) {
+                o[x] = kStill;
+            }
         }
     }
     return out;

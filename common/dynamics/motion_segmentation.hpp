@@ -13,7 +13,11 @@
 ///   with a residual are dynamic (the paper's IoU rule, as a fraction of the segment);
 /// - carried forward: the previous frame's motion mask, warped into this frame by the tracked
 ///   camera motion, lowers the evidence a segment needs, so a mover that slows or pauses for a
-///   frame is not fused into the map.
+///   frame is not fused into the map;
+/// - still but unmapped: a segment or region that is dynamic by its residual is dropped when an
+///   older frame saw it where it is now as a rigid instance, and never through it
+///   (history_evidence): the static map lacks it because a detection kept it out; it did not
+///   move.
 /// DDS-free.
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
@@ -51,16 +55,23 @@ struct MotionInput {
     cv::Mat carried;
     /// CV_32F or empty: |intensity - model intensity| per pixel, NaN where none.
     cv::Mat photometric;
+    /// CV_8UC1 or empty: free-space evidence from an older frame (history_evidence): a dynamic
+    /// segment or region that the old frame saw but not through is still, not a mover.
+    cv::Mat history;
 };
 
+/// history_evidence's codes.
+enum HistoryEvidence : uint8_t { kNoEvidence = 0, kStill = 1, kMoved = 2 };
+
 struct MotionResult {
-    cv::Mat mask;           ///< CV_8UC1, 255 = dynamic (unknown mover)
-    TwoMeans clusters;      ///< of the clipped residuals
-    bool moving = false;    ///< false: the guards found no motion (mask all 0)
+    cv::Mat mask;             ///< CV_8UC1, 255 = dynamic (unknown mover)
+    TwoMeans clusters;        ///< of the clipped residuals
+    bool moving = false;      ///< false: the guards found no motion (mask all 0)
     int residual_pixels = 0;  ///< pixels clustered
     int dynamic_pixels = 0;   ///< above the split and the noise floor, before growing
     int segments = 0;         ///< geometric segments (or regions) made dynamic
     int mask_pixels = 0;      ///< non-zero pixels of `mask`
+    int still_segments = 0;   ///< segments or regions dynamic by residual, but still by history
 };
 
 /// Segments one frame. kInvalidArgument naming the input whose type or size is wrong.
@@ -74,5 +85,20 @@ Result<MotionResult> segment_motion(const MotionInput& input,
 cv::Mat warp_mask(const cv::Mat& previous, const cv::Mat& vertex,
                   const Eigen::Isometry3f& previous_T_current, float fx, float fy, float cx,
                   float cy);
+
+/// Free-space evidence against an older frame, per pixel of the current one (CV_8UC1): each
+/// current vertex (CV_32FC3, current camera frame, metres; z <= 0 invalid) is moved into the old
+/// camera by old_T_current and projected (intrinsics of both frames); the old depth there
+/// (CV_32F, metres, 0 = none), against the point's own depth in the old camera, gives kMoved when
+/// farther by more than history_split |residual| (at least min_residual_m; where `residual_m`
+/// (CV_32F, may be empty) has no finite value, the noise floor min_residual_m +
+/// min_residual_per_m2 z^2): the old frame saw through the point, towards the surface the map
+/// has behind it; kStill when within that and the old frame left the pixel out as a rigid
+/// instance (`old_rigid`, CV_8UC1; empty: wherever it was): something a detection kept out of
+/// the map, which stood still; else kNoEvidence (nearer: occluded then; missing; outside the old
+/// frame; still, but not an instance then, such as a mover that pauses, which stays a mover).
+cv::Mat history_evidence(const cv::Mat& vertex, const cv::Mat& residual_m, const cv::Mat& old_depth,
+                         const cv::Mat& old_rigid, const Eigen::Isometry3f& old_T_current, float fx,
+                         float fy, float cx, float cy, const MotionSegmentationConfig& config);
 
 }  // namespace df::dynamics

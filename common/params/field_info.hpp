@@ -23,6 +23,7 @@ struct FieldInfo {
     bool has_max;
     double max;
     bool max_exclusive;
+    bool non_empty;  ///< a string (each string of a list) must not be empty
 };
 
 namespace detail {
@@ -54,9 +55,11 @@ std::string text_of(T v) {
 
 /// "" when `v` is allowed by `info`, else "<path> is <v>, allowed: <rule>".
 template <class T>
-std::string check_value(const FieldInfo& info, const std::string& path, T v) {
+std::string check_value(const FieldInfo& info, const std::string& path, const T& v) {
     if constexpr (std::is_same_v<T, bool>) {
         return "";
+    } else if constexpr (std::is_same_v<T, std::string>) {
+        return info.non_empty && v.empty() ? path + " is empty, allowed: " + info.allowed : "";
     } else {
         bool ok = true;
         if constexpr (std::is_floating_point_v<T>) ok = std::isfinite(v);
@@ -84,7 +87,7 @@ std::string check(const S& s, const std::string& prefix = "") {
         const std::string path = prefix + info.name;
         if constexpr (detail::is_struct<T>::value) {
             bad = check(value, path + ".");
-        } else if constexpr (std::is_arithmetic_v<T>) {
+        } else if constexpr (std::is_arithmetic_v<T> || std::is_same_v<T, std::string>) {
             bad = detail::check_value(info, path, value);
         } else {
             for (size_t i = 0; i < value.size() && bad.empty(); ++i)

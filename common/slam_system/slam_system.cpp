@@ -14,7 +14,6 @@ double ms_since(std::chrono::steady_clock::time_point start) {
         .count();
 }
 
-
 }  // namespace
 
 std::vector<std::pair<std::string, double>> StageTimes::steps() const {
@@ -105,7 +104,7 @@ Result<FrameReport> SlamSystem::process(const io::RgbdImage& image,
         DF_RETURN_IF_ERROR(track_static(in, guess, &report).with_context(where));
     }
     update_pose(image.sensor_ns, &report);
-    store_instances(in);
+    remember(in);
     input_size_ = image.depth.size();
     if (report.tracking.state == TrackingState::kOk || config_.system.fuse_when_lost) {
         DF_RETURN_IF_ERROR(map_static(in, &report).with_context(where));
@@ -198,7 +197,18 @@ void SlamSystem::recall_instances(Input* in) {
     in->instances.setTo(255, recalled);
 }
 
-void SlamSystem::store_instances(const Input& in) {
+void SlamSystem::remember(const Input& in) {
+    const int frames = config_.dynamics.motion.history_frames;
+    if (lost_ || frames <= 0) {
+        history_.clear();
+    } else {
+        history_.push_back(
+            {in.frame.levels[0].depth_m,
+             dynamics::mask_of({in.instance_ids, in.segments.objects.instances},
+                               {dynamics::ObjectKind::kRigid}, in.instance_ids.size()),
+             world_T_camera_});
+        while (history_.size() > static_cast<size_t>(frames)) history_.pop_front();
+    }
     if (in.rigid.empty()) return;
     if (lost_) {
         memory_.clear();
@@ -216,13 +226,12 @@ Eigen::Isometry3d SlamSystem::pose_guess() const {
     return world_T_camera_;
 }
 
-Status SlamSystem::predict_objects(const Eigen::Isometry3d& guess, Input* in,
-                                   FrameReport* report) {
+Status SlamSystem::predict_objects(const Eigen::Isometry3d& guess, Input* in, FrameReport* report) {
     if (!config_.objects.enabled || !config_.dynamics.use_segments) return Status::ok();
     const auto t = std::chrono::steady_clock::now();
     const cv::Mat background = static_depth();
-    auto objects = objects_.predict_and_associate(in->frame, in->segments.objects, guess,
-                                                  map_time_, background);
+    auto objects = objects_.predict_and_associate(in->frame, in->segments.objects, guess, map_time_,
+                                                  background);
     if (!objects) return objects.status();
     in->objects = std::move(objects).value();
     // Furniture the static map already holds where it stands stays in it: leaving it out would
@@ -270,13 +279,12 @@ cv::Mat SlamSystem::static_depth() const {
 Status SlamSystem::map_objects(Input* in, FrameReport* report) {
     if (!config_.objects.enabled || !config_.dynamics.use_segments) return Status::ok();
     auto t = std::chrono::steady_clock::now();
-    DF_RETURN_IF_ERROR(objects_.track(in->frame, in->segments.objects, world_T_camera_,
-                                      map_time_, &in->objects));
+    DF_RETURN_IF_ERROR(
+        objects_.track(in->frame, in->segments.objects, world_T_camera_, map_time_, &in->objects));
     report->times.objects_track_ms = ms_since(t);
     t = std::chrono::steady_clock::now();
-    DF_RETURN_IF_ERROR(objects_.map(in->frame, in->image.rgb, in->segments.objects,
-                                    world_T_camera_, map_time_, frames_, static_depth(),
-                                    &in->objects));
+    DF_RETURN_IF_ERROR(objects_.map(in->frame, in->image.rgb, in->segments.objects, world_T_camera_,
+                                    map_time_, frames_, static_depth(), &in->objects));
     report->times.objects_map_ms = ms_since(t);
     report->objects = in->objects.reports;
     report->object_ids = in->objects.object_ids;
@@ -309,8 +317,9 @@ Status SlamSystem::track_static(const Input& in, const Eigen::Isometry3d& guess,
         cv::Mat photometric;
         TrackingConfig residual_config = config_.tracking;
         residual_config.max_depth_m = d.motion.max_depth_m;  // motion looks farther (0: all)
-        Result<cv::Mat> r = static_.residuals(in.frame, stage1_pose, residual_config,
-                                              d.motion.min_photometric > 0 ? &photometric : nullptr);
+        Result<cv::Mat> r =
+            static_.residuals(in.frame, stage1_pose, residual_config,
+                              d.motion.min_photometric > 0 ? &photometric : nullptr);
         if (!r) return r.status();
         residual = std::move(r).value();
         dynamics::MotionInput motion;
@@ -320,8 +329,17 @@ Status SlamSystem::track_static(const Input& in, const Eigen::Isometry3d& guess,
         motion.geometric = in.segments.geometric;
         motion.geometric_count = in.segments.geometric_count;
         motion.photometric = photometric;
+        const io::Intrinsics& k = in.frame.levels[0].intrinsics;
+        if (d.motion.history_frames > 0 &&
+            history_.size() == static_cast<size_t>(d.motion.history_frames)) {
+            const HistoryFrame& old = history_.front();
+            const Eigen::Isometry3d old_T_current = old.world_T_camera.inverse() * stage1_pose;
+            motion.history = dynamics::history_evidence(
+                in.frame.levels[0].vertex, residual, old.depth_m, old.rigid,
+                old_T_current.cast<float>(), static_cast<float>(k.fx), static_cast<float>(k.fy),
+                static_cast<float>(k.cx), static_cast<float>(k.cy), d.motion);
+        }
         if (d.carry_forward && !previous_motion_.empty() && !lost_) {
-            const io::Intrinsics& k = in.frame.levels[0].intrinsics;
             const Eigen::Isometry3d previous_T_current = world_T_camera_.inverse() * stage1_pose;
             motion.carried = dynamics::warp_mask(
                 previous_motion_, in.frame.levels[0].vertex, previous_T_current.cast<float>(),
@@ -348,8 +366,8 @@ Status SlamSystem::track_static(const Input& in, const Eigen::Isometry3d& guess,
         // A good stage 1 needs only a few refining iterations; a rejected one is tracked again
         // from the initial guess, in full, so its checks (how far it moved) see the whole step.
         if (!stage1_ok) refine.iterations = config_.tracking.iterations;
-        Result<TrackingResult> stage2 = static_.track(
-            in.frame, stage1_ok ? stage1_pose : guess, report->invalid.tracking, refine);
+        Result<TrackingResult> stage2 = static_.track(in.frame, stage1_ok ? stage1_pose : guess,
+                                                      report->invalid.tracking, refine);
         if (!stage2) return stage2.status();
         report->stage2 = *stage2;
         report->stage2_ran = true;

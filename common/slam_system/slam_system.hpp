@@ -9,6 +9,7 @@
 /// The static map is one MapInstance; object maps (the next step) are more instances of it.
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <deque>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -23,8 +24,8 @@
 #include "map/surfel_map.hpp"
 #include "objects/object_maps.hpp"
 #include "slam/frame.hpp"
-#include "slam/tracker.hpp"
 #include "slam/map_instance.hpp"
+#include "slam/tracker.hpp"
 #include "slam_system/system_config.hpp"
 
 namespace df::slam {
@@ -88,9 +89,9 @@ struct SystemState {
 class SlamSystem {
   public:
     /// Fails (kInvalidArgument naming the field) when the configuration is not usable.
-    static Result<SlamSystem> create(const SystemConfig& config,
-                                     const Eigen::Isometry3d& initial_world_T_camera =
-                                         Eigen::Isometry3d::Identity());
+    static Result<SlamSystem> create(
+        const SystemConfig& config,
+        const Eigen::Isometry3d& initial_world_T_camera = Eigen::Isometry3d::Identity());
 
     /// A system that goes on from `state` (a checkpoint's). The model to track against is
     /// predicted from the restored map at the restored pose when the next image comes (its
@@ -134,12 +135,12 @@ class SlamSystem {
   private:
     /// One frame on its way through process().
     struct Input {
-        io::RgbdImage image;           ///< at the processing resolution
+        io::RgbdImage image;               ///< at the processing resolution
         dynamics::FrameSegments segments;  ///< at the processing resolution (checked)
         Frame frame;
-        cv::Mat instance_ids;  ///< CV_16UC1, the instances left out (instance_labels)
-        cv::Mat instances;     ///< CV_8UC1, instance_ids as a mask (255 = left out)
-        cv::Mat rigid;         ///< CV_8UC1, the rigid instances this frame's segments hold
+        cv::Mat instance_ids;          ///< CV_16UC1, the instances left out (instance_labels)
+        cv::Mat instances;             ///< CV_8UC1, instance_ids as a mask (255 = left out)
+        cv::Mat rigid;                 ///< CV_8UC1, the rigid instances this frame's segments hold
         objects::ObjectFrame objects;  ///< the object maps' pixels of this frame
     };
 
@@ -150,8 +151,9 @@ class SlamSystem {
     /// Adds the rigid instances the memory holds and this frame's segments miss to the
     /// instances left out (one table row, class -1, kind rigid).
     void recall_instances(Input* in);
-    /// Stores this frame's rigid instances in the memory (forgets it when tracking is lost).
-    void store_instances(const Input& in);
+    /// Stores this frame's rigid instances in the memory, and its depth with its pose in the
+    /// motion history (forgets both when tracking is lost).
+    void remember(const Input& in);
     /// The initial guess of this frame's pose (constant velocity when configured).
     Eigen::Isometry3d pose_guess() const;
     /// Renders the object maps at `guess`, associates them with the frame's instances and
@@ -176,8 +178,16 @@ class SlamSystem {
     objects::ObjectMaps objects_;
     Eigen::Isometry3d world_T_camera_;
     Eigen::Isometry3d last_motion_ = Eigen::Isometry3d::Identity();  ///< previous_T_current
-    cv::Mat previous_motion_;  ///< the last frame's motion mask (carried forward)
+    cv::Mat previous_motion_;          ///< the last frame's motion mask (carried forward)
     dynamics::InstanceMemory memory_;  ///< rigid instances of the last frames
+    /// One tracked frame as motion segmentation's free-space evidence remembers it.
+    struct HistoryFrame {
+        cv::Mat depth_m;  ///< level 0
+        cv::Mat rigid;    ///< its rigid instances (object maps' claims included)
+        Eigen::Isometry3d world_T_camera;
+    };
+    /// The last motion.history_frames tracked frames, oldest first.
+    std::deque<HistoryFrame> history_;
     std::vector<io::StampedPose> trajectory_;
     uint64_t frames_ = 0;
     uint64_t lost_frames_ = 0;

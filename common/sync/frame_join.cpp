@@ -1,23 +1,15 @@
 #include "sync/frame_join.hpp"
 
 #include <algorithm>
-#include <sstream>
 
 namespace df::sync {
 
-std::string validate(const JoinConfig& c) {
-    std::ostringstream msg;
-    if (c.detection_deadline_ns < 0) {
-        msg << "detection_deadline_ns must be >= 0, got " << c.detection_deadline_ns;
-    } else if (c.reuse_max_age_ns < 0) {
-        msg << "reuse_max_age_ns must be >= 0, got " << c.reuse_max_age_ns;
-    } else if (c.max_pending < 1) {
-        msg << "max_pending must be >= 1";
-    }
-    return msg.str();
-}
+std::string validate(const JoinConfig& c) { return params::check(c); }
 
-FrameJoin::FrameJoin(JoinConfig config) : config_(config) {}
+FrameJoin::FrameJoin(JoinConfig config)
+    : config_(config),
+      deadline_ns_(static_cast<int64_t>(config.detection_deadline_ms * 1e6)),
+      reuse_ns_(static_cast<int64_t>(config.reuse_max_age_ms * 1e6)) {}
 
 EpochCheck FrameJoin::on_epoch(uint64_t epoch, int64_t now_ns,
                                std::vector<JoinDecision>* released) {
@@ -83,7 +75,7 @@ JoinDecision FrameJoin::decide(const Pending& p, const char* why) {
         d.detections_used = true;
         d.detections_seq = p.seq;
     } else if (p.segments == Arrival::kOk && newest_ok_ && newest_ok_->first < p.seq &&
-               p.capture_ns - newest_ok_->second <= config_.reuse_max_age_ns) {
+               p.capture_ns - newest_ok_->second <= reuse_ns_) {
         d.detections_used = true;
         d.detections_seq = newest_ok_->first;
         d.why += ", reused detections of frame " + std::to_string(newest_ok_->first);
@@ -105,7 +97,7 @@ std::vector<JoinDecision> FrameJoin::poll(int64_t now_ns) {
             why = "segments not ok";
         } else if (own != detections_.end()) {
             why = own->second == Arrival::kOk ? "own detections" : "detector skipped the frame";
-        } else if (now_ns - head.arrived_ns >= config_.detection_deadline_ns) {
+        } else if (now_ns - head.arrived_ns >= deadline_ns_) {
             why = "deadline";
         } else if (pending_.size() > config_.max_pending) {
             why = "too many frames waiting";
@@ -119,7 +111,7 @@ std::vector<JoinDecision> FrameJoin::poll(int64_t now_ns) {
 
 std::optional<int64_t> FrameJoin::next_deadline_ns() const {
     if (pending_.empty()) return std::nullopt;
-    return pending_.front().arrived_ns + config_.detection_deadline_ns;
+    return pending_.front().arrived_ns + deadline_ns_;
 }
 
 }  // namespace df::sync

@@ -7,11 +7,11 @@
 ///
 /// Rules (tests/unit/sync drive them with tables of arrival times):
 /// - A frame is known by its segments message. It is released when its own detections arrive
-///   (ok, skipped or failed) or when `detection_deadline_ns` has passed since its segments
+///   (ok, skipped or failed) or when `detection_deadline_ms` has passed since its segments
 ///   arrived, whichever is first; frames are released in sequence order (a frame waits for the
 ///   ones before it, which the deadline bounds).
 /// - Released without its own detections, a frame uses the newest ok detections of an earlier
-///   frame whose capture time is at most `reuse_max_age_ns` older (boxes move little in that
+///   frame whose capture time is at most `reuse_max_age_ms` older (boxes move little in that
 ///   time); otherwise it is released without detections.
 /// - Segments that were skipped or failed release the frame at once, marked so.
 /// - Duplicates are ignored; messages for frames already released (late detections) are kept
@@ -28,6 +28,8 @@
 #include <string>
 #include <vector>
 
+#include "params/fusion_params.hpp"
+
 namespace df::sync {
 
 enum class Arrival { kOk, kSkipped, kFailed };
@@ -39,12 +41,12 @@ enum class EpochCheck {
     kStale,    ///< an earlier run's message: drop it
 };
 
-struct JoinConfig {
-    int64_t detection_deadline_ns = 60'000'000;  ///< 60 ms: two frames at 30 Hz
-    int64_t reuse_max_age_ns = 100'000'000;      ///< 100 ms of capture time
-    size_t max_pending = 30;                     ///< frames waiting at most
-};
+/// The join's settings: the struct generated from fusion.proto's fields marked
+/// (params_struct) = "JoinParams" (detection_deadline_ms 60, reuse_max_age_ms 100,
+/// max_pending 30: defaults, units and ranges are declared there, once).
+using JoinConfig = params::fusion::JoinParams;
 
+/// "" when every field is within its declared range, else the first offence.
 std::string validate(const JoinConfig& config);
 
 /// What to publish for one frame.
@@ -92,6 +94,8 @@ class FrameJoin {
     JoinDecision decide(const Pending& p, const char* why);
 
     JoinConfig config_;
+    int64_t deadline_ns_ = 0;                      ///< config_.detection_deadline_ms
+    int64_t reuse_ns_ = 0;                         ///< config_.reuse_max_age_ms
     std::deque<Pending> pending_;                  // by seq, ascending
     std::map<uint64_t, Arrival> detections_;       // arrived, frame not yet released
     std::map<uint64_t, int64_t> detection_stamp_;  // capture_ns of those

@@ -30,27 +30,10 @@ sync::Arrival arrival_of(df_msg_FrameStatus s) {
 
 Result<FusionSettings> settings_from(const config::FusionServiceConfig& c) {
     FusionSettings s;
-    s.join.detection_deadline_ns = static_cast<int64_t>(c.detection_deadline_ms() * 1e6);
-    s.join.reuse_max_age_ns = static_cast<int64_t>(c.reuse_max_age_ms() * 1e6);
-    s.join.max_pending = c.max_pending();
+    DF_RETURN_IF_ERROR(config::apply_params(c, &s.join));
     DF_RETURN_IF_ERROR(config::apply_params(c.instances(), &s.instance));
-    const detect::DetectorConfig defaults;
-    s.rigid = c.rigid_classes().empty()
-                  ? defaults.rigid_classes
-                  : std::set<std::string>(c.rigid_classes().begin(), c.rigid_classes().end());
-    s.non_rigid =
-        c.non_rigid_classes().empty()
-            ? defaults.non_rigid_classes
-            : std::set<std::string>(c.non_rigid_classes().begin(), c.non_rigid_classes().end());
-    const auto& names = detect::coco_names();
-    for (const auto* set : {&s.rigid, &s.non_rigid}) {
-        for (const std::string& n : *set) {
-            if (std::find(names.begin(), names.end(), n) == names.end()) {
-                return error(StatusCode::kInvalidArgument,
-                             "class '" + n + "' is not a COCO class name (see coco.names)");
-            }
-        }
-    }
+    DF_RETURN_IF_ERROR(config::apply_params(c.classes(), &s.classes).with_context("classes"));
+    DF_RETURN_IF_ERROR(detect::check_class_names(s.classes).with_context("classes"));
     if (std::string e = sync::validate(s.join); !e.empty()) {
         return error(StatusCode::kInvalidArgument, e);
     }
@@ -121,8 +104,8 @@ bool FusionNode::admit(const df_msg_Header& header, int64_t now) {
         for (const sync::JoinDecision& d : released) publish(d);
         segments_.clear();
         detections_.clear();
-        log::info("seq=", header.seq, " capture run epoch ", header.epoch,
-                  ": joining a new run (", released.size(), " frame(s) of the old run released)");
+        log::info("seq=", header.seq, " capture run epoch ", header.epoch, ": joining a new run (",
+                  released.size(), " frame(s) of the old run released)");
     }
     return true;
 }
@@ -181,8 +164,7 @@ Status FusionNode::take(int64_t now) {
             }
             detections_[m.header.seq] = std::move(boxes);
             join_.on_detections(m.header.seq, static_cast<int64_t>(m.header.capture_ns),
-                                valid ? arrival_of(m.header.status) : sync::Arrival::kFailed,
-                                now);
+                                valid ? arrival_of(m.header.status) : sync::Arrival::kFailed, now);
         },
         32);
     return d ? Status::ok() : d.status();
@@ -213,9 +195,7 @@ void FusionNode::publish(const sync::JoinDecision& d) {
             m.detections_seq = d.detections_seq;
         }
         const auto kind_of = [this](const detect::Detection& x) {
-            if (settings_.non_rigid.count(x.class_name)) return detect::ClassKind::kNonRigid;
-            if (settings_.rigid.count(x.class_name)) return detect::ClassKind::kRigid;
-            return detect::ClassKind::kIgnored;
+            return detect::class_kind(settings_.classes, x.class_name);
         };
         auto r = seg::segment_instances(seg.labels, seg.count, cv::Mat(), boxes, kind_of,
                                         settings_.instance);
@@ -315,9 +295,10 @@ Status FusionNode::run() {
         DF_RETURN_IF_ERROR(take(now_ns()));
         // With no detector on the topic there is nothing to wait for: release at once (as if
         // the deadline had passed) instead of delaying every frame by it.
-        const int64_t poll_at = detections_in_.matched_writers() == 0
-                                    ? now_ns() + settings_.join.detection_deadline_ns
-                                    : now_ns();
+        const int64_t poll_at =
+            detections_in_.matched_writers() == 0
+                ? now_ns() + static_cast<int64_t>(settings_.join.detection_deadline_ms * 1e6)
+                : now_ns();
         for (const sync::JoinDecision& d : join_.poll(poll_at)) {
             stream.on_input();
             publish(d);

@@ -24,7 +24,7 @@ namespace df::fusion_service {
 struct FusionSettings {
     sync::JoinConfig join;
     seg::InstanceSegmentationConfig instance;
-    std::set<std::string> rigid, non_rigid;
+    params::fusion::ClassParams classes;
 };
 
 /// The settings a service configuration asks for; an error names a bad value.

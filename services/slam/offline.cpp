@@ -4,26 +4,25 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <sstream>
 
-#include <future>
-#include <optional>
-
 #include "boxes/box_source.hpp"
-#include "config/apply_params.hpp"
 #include "capture.pb.h"
-#include "detect/detector.hpp"
-#include "mask_outputs.hpp"
-#include "objects/object_io.hpp"
-#include "eval/segmentation.hpp"
-#include "seg/frame_segmenter.hpp"
+#include "config/apply_params.hpp"
 #include "core/log.hpp"
+#include "detect/detector.hpp"
+#include "eval/segmentation.hpp"
 #include "eval/trajectory_metrics.hpp"
 #include "io/tum/intrinsics_file.hpp"
 #include "io/tum/stamp.hpp"
+#include "mask_outputs.hpp"
+#include "objects/object_io.hpp"
 #include "run_outputs.hpp"
+#include "seg/frame_segmenter.hpp"
 #include "service/service.hpp"
 #include "slam_system/parameters.hpp"
 #include "slam_system/slam_params.hpp"
@@ -97,9 +96,9 @@ Result<dynamics::FrameSegments> read_masks(const OfflineOptions& o, const io::Rg
             if (gt.id != row.id) continue;
             row.class_id = gt.class_id;
             row.score = 1.f;
-            row.kind = gt.kind == eval::InstanceKind::kRigid       ? dynamics::ObjectKind::kRigid
+            row.kind = gt.kind == eval::InstanceKind::kRigid      ? dynamics::ObjectKind::kRigid
                        : gt.kind == eval::InstanceKind::kNonRigid ? dynamics::ObjectKind::kNonRigid
-                                                                   : dynamics::ObjectKind::kUnknown;
+                                                                  : dynamics::ObjectKind::kUnknown;
         }
     }
     return segments;
@@ -130,10 +129,12 @@ class Segmenter {
                 log::info("masks: classes and kinds of ", s.mask_table_.size(),
                           " instances from the instances.json beside them");
         }
-        DF_RETURN_IF_ERROR(config::apply_params(c.geoseg(), &s.config_.geometric)
-                               .with_context("geoseg"));
-        DF_RETURN_IF_ERROR(config::apply_params(c.instances(), &s.config_.instances)
-                               .with_context("instances"));
+        DF_RETURN_IF_ERROR(
+            config::apply_params(c.geoseg(), &s.config_.geometric).with_context("geoseg"));
+        DF_RETURN_IF_ERROR(
+            config::apply_params(c.instances(), &s.config_.instances).with_context("instances"));
+        DF_RETURN_IF_ERROR(config::apply_params(c.classes(), &s.classes_).with_context("classes"));
+        DF_RETURN_IF_ERROR(detect::check_class_names(s.classes_).with_context("classes"));
         if (std::string e = seg::validate(s.config_.geometric); !e.empty())
             return error(StatusCode::kInvalidArgument, "geoseg." + e);
         if (!o.masks.empty() || o.dynamics == "off" || o.detector == "none") return s;
@@ -167,7 +168,7 @@ class Segmenter {
         }
         if (!geometric) return geometric.status().with_context("geometric segmentation");
         const auto kind_of = [this](const detect::Detection& d) {
-            return classes_.kind_of(d.class_name);
+            return detect::class_kind(classes_, d.class_name);
         };
         return seg::fuse_segments(*geometric, found, kind_of, config_.instances);
     }
@@ -176,7 +177,7 @@ class Segmenter {
     OfflineOptions options_;
     std::vector<eval::GtInstance> mask_table_;  ///< with --masks: instances.json, if any
     seg::FrameSegmenterConfig config_;
-    detect::DetectorConfig classes_;  ///< which classes are rigid / non-rigid (df_detect's)
+    params::fusion::ClassParams classes_;  ///< which classes are rigid / non-rigid
     std::unique_ptr<boxes::BoxSource> boxes_;
 };
 
@@ -328,22 +329,22 @@ int run_offline(const OfflineOptions& options, const config::SlamServiceConfig& 
         was_lost = lost;
         const uint32_t every = config.output().log_every();
         if (every > 0 && seq % every == 0) {
-            log::info("seq=", seq, " ", slam::to_string(report->tracking.state),
-                      " inliers=", report->tracking.inlier_ratio,
-                      " icp_rmse_mm=", report->tracking.icp_rmse_m * 1000,
-                      " surfels=", report->fusion.total, " fused=", report->fusion.fused,
-                      " created=", report->fusion.created,
-                      " removed=", report->fusion.removed + report->fusion.removed_free_space,
-                      " instances=", segments->objects.instances.size(),
-                      " left_out_px=", cv::countNonZero(report->invalid.tracking.empty()
-                                                            ? cv::Mat::zeros(1, 1, CV_8UC1)
-                                                            : report->invalid.tracking),
-                      " motion_px=", report->motion.mask_pixels, " (2-means ",
-                      report->motion.clusters.low * 1000, "/", report->motion.clusters.high * 1000,
-                      " mm, ", report->motion.dynamic_pixels, " px above, ",
-                      report->motion.segments, " segments)",
-                      " stage2=", report->stage2_ran ? slam::to_string(report->stage2.state) : "no",
-                      " objects=", objects_text(*report), " total_ms=", report->times.total_ms);
+            log::info(
+                "seq=", seq, " ", slam::to_string(report->tracking.state),
+                " inliers=", report->tracking.inlier_ratio,
+                " icp_rmse_mm=", report->tracking.icp_rmse_m * 1000,
+                " surfels=", report->fusion.total, " fused=", report->fusion.fused,
+                " created=", report->fusion.created,
+                " removed=", report->fusion.removed + report->fusion.removed_free_space,
+                " instances=", segments->objects.instances.size(), " left_out_px=",
+                cv::countNonZero(report->invalid.tracking.empty() ? cv::Mat::zeros(1, 1, CV_8UC1)
+                                                                  : report->invalid.tracking),
+                " motion_px=", report->motion.mask_pixels, " (2-means ",
+                report->motion.clusters.low * 1000, "/", report->motion.clusters.high * 1000,
+                " mm, ", report->motion.dynamic_pixels, " px above, ", report->motion.segments,
+                " segments, ", report->motion.still_segments, " still)",
+                " stage2=", report->stage2_ran ? slam::to_string(report->stage2.state) : "no",
+                " objects=", objects_text(*report), " total_ms=", report->times.total_ms);
         }
         ++seq;
     }

@@ -329,8 +329,8 @@ def make_files(m, bin_dir):
         "cfg_garbage.pbtxt": garbage(500).decode("latin-1"),
         "cfg_nested_unknown.pbtxt": "slam { map { no_such_field: 1 } }\n",
         "cfg_duplicate_scalar.pbtxt": "idle_exit_s: 1\nidle_exit_s: 2\n",
-        "cfg_fusion_both.pbtxt": "rigid_classes: \"car\"\nnon_rigid_classes: \"car\"\n",
-        "cfg_fusion_empty_class.pbtxt": "rigid_classes: \"\"\n",
+        "cfg_fusion_both.pbtxt": "classes { rigid: \"car\" non_rigid: \"car\" }\n",
+        "cfg_fusion_empty_class.pbtxt": "classes { rigid: \"\" }\n",
         "cfg_detector_nms_nan.pbtxt": "model: \"simulated\"\nnms_iou_threshold: nan\n",
         "cfg_capture_rate_zero.pbtxt": "rate: 0\n",
     }

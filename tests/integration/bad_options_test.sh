@@ -31,6 +31,8 @@ slam_bad=(
   "stage: \"\"|stage is empty, allowed: not empty"
   "geoseg { min_segment_pixels: 0 }|geoseg.min_segment_pixels is 0, allowed: >= 1 and <= 307200"
   "instances { min_iou: 2 }|instances.min_iou is 2, allowed: > 0 and <= 1"
+  "classes { rigid: \"cup\" non_rigid: \"cup\" }|class 'cup' is listed in both classes.rigid and classes.non_rigid"
+  "classes { rigid: \"\" }|classes.rigid[0] is empty"
 )
 for c in "${slam_bad[@]}"; do
   expect_refused "${c#*|}" "$BIN/df_slam" run --set "$udp" --set "${c%%|*}"
@@ -94,8 +96,8 @@ for c in "${detector_bad[@]}"; do
 done
 
 # Fusion.
-expect_refused "class 'cup' is listed in both rigid_classes and non_rigid_classes" \
-  "$BIN/df_fusion" --set "$udp" --set 'rigid_classes: "cup" non_rigid_classes: "cup"'
+expect_refused "class 'cup' is listed in both classes.rigid and classes.non_rigid" \
+  "$BIN/df_fusion" --set "$udp" --set 'classes { rigid: "cup" non_rigid: "cup" }'
 expect_refused "detection_deadline_ms is nan, allowed: >= 0 and <= 600000 (unit: ms)" \
   "$BIN/df_fusion" --set "$udp" --set 'detection_deadline_ms: nan'
 expect_refused "instances.min_iou is 2, allowed: > 0 and <= 1" "$BIN/df_fusion" --set "$udp" --set 'instances { min_iou: 2 }'

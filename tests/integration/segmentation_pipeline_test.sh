@@ -31,7 +31,7 @@ expect_named "persn" "$BIN/df_detector" --set 'class_score_thresholds { key: "pe
 expect_named "nonsense" "$BIN/df_detector" --set 'model: "nonsense"'
 expect_named "sim_sequence" "$BIN/df_detector" --set 'model: "simulated"' --set 'sim_sequence: "/nowhere"'
 expect_named "input" "$BIN/df_detector" --set 'model: "simulated"' --set "sim_sequence: \"$TMP/seq\"" --set 'input: "depth"'
-expect_named "karr" "$BIN/df_fusion" --set 'rigid_classes: "karr"'
+expect_named "karr" "$BIN/df_fusion" --set 'classes { rigid: "karr" }'
 pass "bad detector and fusion configurations are named"
 
 run_pipeline() {  # name, with_detector, [detector input: frames | color_small]

@@ -92,9 +92,12 @@ TEST(Validate, ChoicesAndNonEmptyStrings) {
 }
 
 TEST(Validate, CrossFieldRulesOfServiceConfigs) {
-    EXPECT_EQ(check_text<FusionServiceConfig>(
-                  "rigid_classes: 'cup' rigid_classes: 'book' non_rigid_classes: 'book'"),
-              "class 'book' is listed in both rigid_classes and non_rigid_classes; an instance "
+    EXPECT_EQ(
+        check_text<FusionServiceConfig>("classes { rigid: 'cup' rigid: 'book' non_rigid: 'book' }"),
+        "class 'book' is listed in both classes.rigid and classes.non_rigid; an instance "
+        "is one or the other: remove it from one list");
+    EXPECT_EQ(check_text<SlamServiceConfig>("classes { rigid: 'cup' non_rigid: 'cup' }"),
+              "class 'cup' is listed in both classes.rigid and classes.non_rigid; an instance "
               "is one or the other: remove it from one list");
     EXPECT_EQ(check_text<DetectorServiceConfig>("input_width: 100"),
               "input_width x input_height is 100x640, allowed: multiples of 32");
@@ -177,9 +180,10 @@ TEST(Validate, SlamLibraryDefaultsSatisfyTheRangesOfSlamProto) {
     EXPECT_EQ(sections.size(), 10u);
     const Status s = check_fields(params, "slam.");
     EXPECT_TRUE(s) << s.message();
-    EXPECT_NE(slam::params_table(slam::SystemConfig{})
-                  .find("map.confidence_sigma                             0.6        > 0 and <= 100"),
-              std::string::npos)
+    EXPECT_NE(
+        slam::params_table(slam::SystemConfig{})
+            .find("map.confidence_sigma                             0.6        > 0 and <= 100"),
+        std::string::npos)
         << slam::params_table(slam::SystemConfig{});
 }
 
@@ -237,8 +241,7 @@ TEST(Validate, HelpListsEveryFieldWithDefaultAndRange) {
               std::string::npos)
         << help;
     EXPECT_EQ(allowed_text(CaptureConfig::descriptor()->FindFieldByName("folder")), "");
-    EXPECT_EQ(allowed_text(FusionServiceConfig::descriptor()->FindFieldByName("rigid_classes")),
-              "each not empty");
+    EXPECT_EQ(allowed_text(ClassParams::descriptor()->FindFieldByName("rigid")), "each not empty");
 }
 
 TEST(Validate, EveryDeployConfigurationPassesItsChecks) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -204,7 +205,8 @@ TEST(DetectDarknetTest, TinyYoloGivesItsBoxInImagePixels) {
     ASSERT_TRUE(strict.is_ok());
     EXPECT_TRUE((*strict)->detect(cv::Mat(32, 32, CV_8UC3))->empty());
     c.class_score_thresholds.clear();
-    c.rigid_classes.erase("car");
+    auto& rigid = c.classes.rigid;
+    rigid.erase(std::remove(rigid.begin(), rigid.end(), "car"), rigid.end());
     c.drop_ignored_classes = true;
     auto rigid_only = open_detector(c);
     ASSERT_TRUE(rigid_only.is_ok());
