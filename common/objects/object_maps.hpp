@@ -27,10 +27,10 @@
 #include "io/tum/trajectory.hpp"
 #include "map/surfel_map.hpp"
 #include "objects/association.hpp"
+#include "params/slam_params.hpp"
 #include "slam/frame.hpp"
 #include "slam/map_instance.hpp"
 #include "slam/tracker.hpp"
-#include "params/slam_params.hpp"
 
 namespace df::objects {
 
@@ -87,6 +87,29 @@ struct ObjectCounters {
     uint64_t surfels_rejected_by_capacity = 0;  ///< over every map, at max_surfels
 };
 
+/// Everything of an object map a checkpoint keeps (its model is rendered afresh each frame).
+struct ObjectMapState {
+    int id = 0;
+    int class_id = -1;
+    float score = 0.f;
+    ObjectState state = ObjectState::kActive;
+    uint64_t first_frame = 0, last_seen_frame = 0, frames_tracked = 0;
+    int frames_lost = 0;
+    Eigen::Isometry3d world_T_object = Eigen::Isometry3d::Identity();
+    Eigen::Isometry3d body_motion = Eigen::Isometry3d::Identity();
+    std::vector<io::StampedPose> trajectory;
+    std::vector<map::Surfel> surfels;  ///< in the object's frame, in storage order
+    uint64_t surfels_rejected_by_capacity = 0;
+};
+
+/// Every object map of a run and the counters, as a checkpoint keeps them. Candidates (rigid
+/// instances not yet a map) are not kept: a resumed run sees them again.
+struct ObjectMapsState {
+    std::vector<ObjectMapState> objects;  ///< creation order
+    ObjectCounters counters;
+    int next_id = 1;
+};
+
 /// One frame's object pixels, from predict_and_associate() to map().
 struct ObjectFrame {
     /// CV_16UC1 of the processing resolution: the object id that claims each pixel, 0 none.
@@ -135,6 +158,12 @@ class ObjectMaps {
     const std::vector<ObjectMap>& objects() const { return objects_; }
     const ObjectCounters& counters() const { return counters_; }
     const ObjectMapsConfig& config() const { return config_; }
+
+    /// The maps and counters, for a checkpoint.
+    ObjectMapsState state() const;
+    /// Replaces every map and counter with `state`'s (a checkpoint's). kInvalidArgument naming
+    /// the object when an id repeats, a pose is not finite or the surfels do not fit max_surfels.
+    Status restore(ObjectMapsState state);
 
   private:
     /// A rigid instance seen on consecutive frames, not yet a map.

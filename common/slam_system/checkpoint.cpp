@@ -13,10 +13,14 @@ namespace df::slam {
 namespace {
 
 constexpr char kMagic[8] = {'D', 'F', 'S', 'L', 'A', 'M', 'C', 'K'};
-constexpr uint32_t kVersion = 1;
+// Version 2 adds the object maps after the static surfels; version 1 files are still read (no
+// object maps).
+constexpr uint32_t kVersion = 2;
 constexpr size_t kHeaderBytes = sizeof kMagic + 4 + 8;
 constexpr size_t kSurfelBytes = 11 * 4 + 2 * 4;  // 11 floats, 2 int32
 constexpr size_t kPoseBytes = 8 * 8;
+// The fixed part of one object map: ids, score, state, frame counts, two poses, two counts.
+constexpr size_t kObjectBytes = 4 + 4 + 4 + 1 + 3 * 8 + 4 + 2 * 12 * 8 + 8 + 2 * 8;
 
 uint64_t fnv1a(const uint8_t* data, size_t n) {
     uint64_t h = 1469598103934665603ULL;
@@ -39,6 +43,31 @@ class Writer {
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 3; ++c) put(pose.linear()(r, c));
         for (int i = 0; i < 3; ++i) put(pose.translation()(i));
+    }
+    void put_trajectory(const std::vector<io::StampedPose>& trajectory) {
+        put(static_cast<uint64_t>(trajectory.size()));
+        for (const io::StampedPose& p : trajectory) {
+            put(p.stamp_s);
+            for (int i = 0; i < 3; ++i) put(p.t(i));
+            put(p.q.x());
+            put(p.q.y());
+            put(p.q.z());
+            put(p.q.w());
+        }
+    }
+    void put_surfels(const std::vector<map::Surfel>& surfels, uint64_t rejected) {
+        put(static_cast<uint64_t>(surfels.size()));
+        put(rejected);
+        bytes.reserve(bytes.size() + surfels.size() * kSurfelBytes);
+        for (const map::Surfel& m : surfels) {
+            for (int i = 0; i < 3; ++i) put(m.position(i));
+            for (int i = 0; i < 3; ++i) put(m.normal(i));
+            for (int i = 0; i < 3; ++i) put(m.colour(i));
+            put(m.radius);
+            put(m.confidence);
+            put(static_cast<int32_t>(m.init_frame));
+            put(static_cast<int32_t>(m.last_seen_frame));
+        }
     }
     std::vector<uint8_t> bytes;
 };
@@ -63,6 +92,41 @@ class Reader {
         return true;
     }
     size_t left() const { return size_ - pos_; }
+    /// A trajectory; false when its count does not fit what is left.
+    bool get_trajectory(std::vector<io::StampedPose>* trajectory, uint64_t* count) {
+        if (!get(count) || *count > left() / kPoseBytes) return false;
+        trajectory->resize(*count);
+        for (io::StampedPose& p : *trajectory) {
+            double q[4] = {0, 0, 0, 1};
+            (void)get(&p.stamp_s);
+            for (int i = 0; i < 3; ++i) (void)get(&p.t(i));
+            for (double& v : q) (void)get(&v);
+            p.q = Eigen::Quaterniond(q[3], q[0], q[1], q[2]);
+        }
+        return true;
+    }
+    /// Surfels; false when their count does not fit what is left (`exact`: is all that is left).
+    bool get_surfels(std::vector<map::Surfel>* surfels, uint64_t* rejected, uint64_t* count,
+                     bool exact) {
+        if (!get(count) || !get(rejected)) return false;
+        if (exact ? (*count != left() / kSurfelBytes || left() % kSurfelBytes != 0)
+                  : *count > left() / kSurfelBytes)
+            return false;
+        surfels->resize(*count);
+        for (map::Surfel& m : *surfels) {
+            int32_t init = 0, seen = 0;
+            for (int i = 0; i < 3; ++i) (void)get(&m.position(i));
+            for (int i = 0; i < 3; ++i) (void)get(&m.normal(i));
+            for (int i = 0; i < 3; ++i) (void)get(&m.colour(i));
+            (void)get(&m.radius);
+            (void)get(&m.confidence);
+            (void)get(&init);
+            (void)get(&seen);
+            m.init_frame = init;
+            m.last_seen_frame = seen;
+        }
+        return true;
+    }
 
   private:
     const uint8_t* data_;
@@ -85,32 +149,34 @@ std::vector<uint8_t> encode(const Checkpoint& c) {
     w.put(static_cast<int32_t>(s.input_height));
     w.put_pose(s.world_T_camera);
     w.put_pose(s.last_motion);
-    w.put(static_cast<uint64_t>(s.trajectory.size()));
-    for (const io::StampedPose& p : s.trajectory) {
-        w.put(p.stamp_s);
-        for (int i = 0; i < 3; ++i) w.put(p.t(i));
-        w.put(p.q.x());
-        w.put(p.q.y());
-        w.put(p.q.z());
-        w.put(p.q.w());
-    }
-    w.put(static_cast<uint64_t>(s.surfels.size()));
-    w.put(s.surfels_rejected_by_capacity);
-    w.bytes.reserve(w.bytes.size() + s.surfels.size() * kSurfelBytes);
-    for (const map::Surfel& m : s.surfels) {
-        for (int i = 0; i < 3; ++i) w.put(m.position(i));
-        for (int i = 0; i < 3; ++i) w.put(m.normal(i));
-        for (int i = 0; i < 3; ++i) w.put(m.colour(i));
-        w.put(m.radius);
-        w.put(m.confidence);
-        w.put(static_cast<int32_t>(m.init_frame));
-        w.put(static_cast<int32_t>(m.last_seen_frame));
+    w.put_trajectory(s.trajectory);
+    w.put_surfels(s.surfels, s.surfels_rejected_by_capacity);
+    const objects::ObjectMapsState& o = s.objects;
+    w.put(static_cast<int32_t>(o.next_id));
+    for (uint64_t v : {o.counters.created, o.counters.revived, o.counters.retired,
+                       o.counters.refused_by_cap, o.counters.surfels_rejected_by_capacity})
+        w.put(v);
+    w.put(static_cast<uint64_t>(o.objects.size()));
+    for (const objects::ObjectMapState& m : o.objects) {
+        w.put(static_cast<int32_t>(m.id));
+        w.put(static_cast<int32_t>(m.class_id));
+        w.put(m.score);
+        w.put(static_cast<uint8_t>(m.state == objects::ObjectState::kRetired));
+        w.put(m.first_frame);
+        w.put(m.last_seen_frame);
+        w.put(m.frames_tracked);
+        w.put(static_cast<int32_t>(m.frames_lost));
+        w.put_pose(m.world_T_object);
+        w.put_pose(m.body_motion);
+        w.put_trajectory(m.trajectory);
+        w.put_surfels(m.surfels, m.surfels_rejected_by_capacity);
     }
     return std::move(w.bytes);
 }
 
 /// Decodes a payload whose hash matched; `what` is "<file>: " for messages.
-Result<Checkpoint> decode(const uint8_t* data, size_t size, const std::string& what) {
+Result<Checkpoint> decode(const uint8_t* data, size_t size, uint32_t version,
+                          const std::string& what) {
     Reader r(data, size);
     Checkpoint c;
     SystemState& s = c.system;
@@ -131,36 +197,51 @@ Result<Checkpoint> decode(const uint8_t* data, size_t size, const std::string& w
     s.input_width = width;
     s.input_height = height;
     uint64_t poses = 0;
-    if (!r.get(&poses) || poses > r.left() / kPoseBytes) {
+    if (!r.get_trajectory(&s.trajectory, &poses)) {
         return bad("trajectory count " + std::to_string(poses) + " does not fit the file");
     }
-    s.trajectory.resize(poses);
-    for (io::StampedPose& p : s.trajectory) {
-        double q[4] = {0, 0, 0, 1};
-        (void)r.get(&p.stamp_s);
-        for (int i = 0; i < 3; ++i) (void)r.get(&p.t(i));
-        for (double& v : q) (void)r.get(&v);
-        p.q = Eigen::Quaterniond(q[3], q[0], q[1], q[2]);
-    }
     uint64_t surfels = 0;
-    if (!r.get(&surfels) || !r.get(&s.surfels_rejected_by_capacity) ||
-        surfels != r.left() / kSurfelBytes || r.left() % kSurfelBytes != 0) {
+    const size_t before = r.left();
+    if (!r.get_surfels(&s.surfels, &s.surfels_rejected_by_capacity, &surfels, version == 1)) {
         return bad("surfel count " + std::to_string(surfels) + " does not match the " +
-                   std::to_string(r.left()) + " bytes left");
+                   std::to_string(before) + " bytes left");
     }
-    s.surfels.resize(surfels);
-    for (map::Surfel& m : s.surfels) {
-        int32_t init = 0, seen = 0;
-        for (int i = 0; i < 3; ++i) (void)r.get(&m.position(i));
-        for (int i = 0; i < 3; ++i) (void)r.get(&m.normal(i));
-        for (int i = 0; i < 3; ++i) (void)r.get(&m.colour(i));
-        (void)r.get(&m.radius);
-        (void)r.get(&m.confidence);
-        (void)r.get(&init);
-        (void)r.get(&seen);
-        m.init_frame = init;
-        m.last_seen_frame = seen;
+    if (version == 1) return c;
+    objects::ObjectMapsState& o = s.objects;
+    int32_t next_id = 1;
+    uint64_t count = 0;
+    if (!r.get(&next_id) || !r.get(&o.counters.created) || !r.get(&o.counters.revived) ||
+        !r.get(&o.counters.retired) || !r.get(&o.counters.refused_by_cap) ||
+        !r.get(&o.counters.surfels_rejected_by_capacity) || !r.get(&count) ||
+        count > r.left() / kObjectBytes) {
+        return bad("object map count " + std::to_string(count) + " does not fit the file");
     }
+    o.next_id = next_id;
+    o.objects.resize(count);
+    for (objects::ObjectMapState& m : o.objects) {
+        int32_t id = 0, class_id = 0, frames_lost = 0;
+        uint8_t retired = 0;
+        uint64_t n = 0, rejected = 0;
+        if (!r.get(&id) || !r.get(&class_id) || !r.get(&m.score) || !r.get(&retired) ||
+            !r.get(&m.first_frame) || !r.get(&m.last_seen_frame) || !r.get(&m.frames_tracked) ||
+            !r.get(&frames_lost) || !r.get_pose(&m.world_T_object) || !r.get_pose(&m.body_motion)) {
+            return bad("payload ends inside object map " + std::to_string(id));
+        }
+        m.id = id;
+        m.class_id = class_id;
+        m.frames_lost = frames_lost;
+        m.state = retired ? objects::ObjectState::kRetired : objects::ObjectState::kActive;
+        if (!r.get_trajectory(&m.trajectory, &n)) {
+            return bad("object map " + std::to_string(id) + ": trajectory count " +
+                       std::to_string(n) + " does not fit the file");
+        }
+        if (!r.get_surfels(&m.surfels, &rejected, &n, false)) {
+            return bad("object map " + std::to_string(id) + ": surfel count " + std::to_string(n) +
+                       " does not fit the file");
+        }
+        m.surfels_rejected_by_capacity = rejected;
+    }
+    if (r.left() != 0) return bad(std::to_string(r.left()) + " bytes after the last object map");
     return c;
 }
 
@@ -226,9 +307,9 @@ Result<Checkpoint> read_checkpoint(const std::string& file) {
     uint64_t length = 0;
     std::memcpy(&version, bytes.data() + sizeof kMagic, sizeof version);
     std::memcpy(&length, bytes.data() + sizeof kMagic + 4, sizeof length);
-    if (version != kVersion) {
+    if (version != kVersion && version != 1) {
         return error(StatusCode::kIoError, what + "version " + std::to_string(version) +
-                                               ", this build reads version " +
+                                               ", this build reads versions 1 to " +
                                                std::to_string(kVersion));
     }
     const uint64_t expected = kHeaderBytes + length + 8;
@@ -244,7 +325,7 @@ Result<Checkpoint> read_checkpoint(const std::string& file) {
     if (hash != fnv1a(payload, length)) {
         return error(StatusCode::kIoError, what + "hash mismatch: the file is corrupt");
     }
-    return decode(payload, length, what);
+    return decode(payload, length, version, what);
 }
 
 }  // namespace df::slam

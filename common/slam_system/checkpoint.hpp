@@ -9,7 +9,10 @@
 /// and last_motion (12 doubles each, rotation row-major then translation); the trajectory
 /// (count, then stamp_s, t, q x y z w as doubles); the surfels (count, rejected-by-capacity
 /// count, then per surfel position, normal, colour, radius, confidence as floats and init and
-/// last-seen frames as i32).
+/// last-seen frames as i32). Version 2 (written now) goes on with the object maps: next id, the
+/// five counters, the count, then per map id, class, score, retired, first / last-seen frame,
+/// frames tracked, frames lost, world_T_object, body motion, its trajectory and its surfels (in
+/// the object's frame) as above. Version 1 files (no object maps) are still read.
 #include <cstdint>
 #include <string>
 

@@ -55,6 +55,7 @@ Result<SlamSystem> SlamSystem::restore(const SystemConfig& config, SystemState s
     system->lost_ = state.lost;
     system->input_size_ = cv::Size(state.input_width, state.input_height);
     if (state.started) system->static_.mark_model_stale();
+    DF_RETURN_IF_ERROR(system->objects_.restore(std::move(state.objects)));
     return system;
 }
 
@@ -72,6 +73,7 @@ SystemState SlamSystem::state() const {
     s.lost = lost_;
     s.input_width = input_size_.width;
     s.input_height = input_size_.height;
+    s.objects = objects_.state();
     return s;
 }
 

@@ -84,6 +84,7 @@ struct SystemState {
     bool lost = false;
     int input_width = 0;  ///< of the first frame (0 before it)
     int input_height = 0;
+    objects::ObjectMapsState objects;  ///< every object map, live and retired
 };
 
 class SlamSystem {

@@ -11,11 +11,12 @@
 # environment: PRESETS (default: the issue's seven and static_xyz, static_halfsphere; "" = none),
 #   DETECTORS (default "yolov5 simulated off"), FRAMES (300), SCENES (7-Scenes folder; "" skips),
 #   SET (extra --set for every run, e.g. 'slam { tracking { icp_weight: 1 } }'),
-#   TAG (names the output folder out/bench/dynamic/TAG).
+#   TAG (names the output folder out/bench/dynamic/TAG), MASKS=1 (also write the per-frame
+#   masks, for df_eval seg), BIN (the binaries; default build/bin).
 # Needs a build (bash deploy/build.sh).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-bin="$root/build/bin"
+bin="${BIN:-$root/build/bin}"
 frames="${FRAMES:-300}"
 presets="${PRESETS-walking_static walking_xyz walking_rpy walking_halfsphere sitting_xyz sitting_halfsphere default static_xyz static_halfsphere}"
 detectors="${DETECTORS:-yolov5 simulated off}"
@@ -49,7 +50,7 @@ run() {  # name folder detector [preset]
     off) args=(--dynamics off) ;;
     *) args=(--detector "$3") ;;
   esac
-  "$bin/df_slam" offline "$2" -o "$dir" ${4:+--preset $4} "${args[@]}" --write-masks false \
+  "$bin/df_slam" offline "$2" -o "$dir" ${4:+--preset $4} "${args[@]}" --write-masks "$([ "${MASKS:-0}" = 1 ] && echo true || echo false)" \
     --set 'output { log_every: 0 }' "${set_args[@]}" >"$dir.out" 2>"$dir.log" \
     || { echo "$1: df_slam failed, see $dir.log"; tail -3 "$dir.log"; return 0; }
   "$bin/df_eval" ate "$2/groundtruth.txt" "$dir/trajectory.txt" --json "$dir/ate.json" >/dev/null 2>&1 \

@@ -4,20 +4,22 @@
 // detector stops reporting and that drives away is retired, and revived when it is reported
 // again; the cap on live maps is counted.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <filesystem>
 #include <opencv2/imgproc.hpp>
 
 #include "eval/trajectory_metrics.hpp"
 #include "seg/frame_segmenter.hpp"
 #include "sim/simulated_detector.hpp"
 #include "sim_frames.hpp"
+#include "slam_system/checkpoint.hpp"
 #include "slam_system/slam_system.hpp"
 
 namespace df::slam {
 namespace {
 
 constexpr int kCarClass = 2;
-
 
 struct RunResult {
     std::vector<io::StampedPose> camera_gt, car_gt;
@@ -27,8 +29,10 @@ struct RunResult {
 
 /// `frames` frames of room4 through the system. On the frames `missed` says the detector does
 /// not report the car; on those `hidden` says the car is gone from the view as well (no depth).
+/// With `checkpoint_at` >= 0 the system is written to a checkpoint file before that frame, read
+/// back and restored, and the run goes on with the restored system (a restarted service).
 RunResult run(int frames, const SystemConfig& config, const std::function<bool(int)>& hidden = {},
-              const std::function<bool(int)>& missed = {}) {
+              const std::function<bool(int)>& missed = {}, int checkpoint_at = -1) {
     const sim::Sequence s = test::make_noisy_sequence("room4", frames);
     auto created = SlamSystem::create(config);
     EXPECT_TRUE(created.is_ok()) << created.status().message();
@@ -42,13 +46,29 @@ RunResult run(int frames, const SystemConfig& config, const std::function<bool(i
     for (size_t k = 0; k < s.scene.objects.size(); ++k)
         if (s.scene.objects[k].class_id == kCarClass) car = k;
     for (int i = 0; i < s.frames; ++i) {
+        if (i == checkpoint_at) {
+            const std::string file = (std::filesystem::temp_directory_path() /
+                                      ("df_object_maps_test_" + std::to_string(getpid()) + ".bin"))
+                                         .string();
+            Checkpoint c;
+            c.system = r.system->state();
+            EXPECT_TRUE(write_checkpoint(file, c).is_ok());
+            auto read = read_checkpoint(file);
+            std::filesystem::remove(file);
+            EXPECT_TRUE(read.is_ok()) << read.status().message();
+            if (!read.is_ok()) return r;
+            auto restored = SlamSystem::restore(config, std::move(read->system));
+            EXPECT_TRUE(restored.is_ok()) << restored.status().message();
+            if (!restored.is_ok()) return r;
+            r.system = std::make_unique<SlamSystem>(std::move(restored).value());
+        }
         const sim::RenderBuffers truth = sim::render_frame(s, i);
         test::SimFrame f = test::render_sim_frame(s, i);
         const bool hide = hidden && hidden(i);
         if (hide) f.image.depth.setTo(0, truth.instance == static_cast<int>(car + 1));
         r.camera_gt.push_back(io::stamped_pose(f.image.sensor_ns, f.world_T_camera));
-        r.car_gt.push_back(
-            io::stamped_pose(f.image.sensor_ns, sim::frame_state(s, i).objects[car].world_T_object));
+        r.car_gt.push_back(io::stamped_pose(f.image.sensor_ns,
+                                            sim::frame_state(s, i).objects[car].world_T_object));
         auto geometric = seg::segment_depth(f.image, segmenter);
         EXPECT_TRUE(geometric.is_ok()) << geometric.status().message();
         std::vector<detect::Detection> boxes;
@@ -140,6 +160,26 @@ TEST(ObjectMaps, AMissedDetectionDoesNotLoseTheObject) {
     }
     EXPECT_EQ(matched, 0) << "the detector reported nothing";
     EXPECT_GE(tracked, 8) << "tracked on its rendering's pixels";
+}
+
+TEST(ObjectMaps, ACheckpointKeepsTheObjectMapsAndTheRestoredRunTracksThemOn) {
+    // A checkpoint before frame 16 (a restarted SLAM service): the car's map comes back with its
+    // id, model, trajectory and counters, and the restored system goes on tracking it; no
+    // second map is made for it.
+    const RunResult r = run(28, SystemConfig{}, {}, {}, 16);
+    const auto cars = of_class(r.system->object_maps(), kCarClass);
+    ASSERT_EQ(cars.size(), 1u) << "restored, not made again";
+    const objects::ObjectMap& car = *cars[0];
+    EXPECT_LE(car.first_frame, 5u) << "the map made before the checkpoint";
+    EXPECT_EQ(car.trajectory.size(), car.frames_tracked);
+    EXPECT_GT(car.map.map().size(), 500u);
+    int tracked_after = 0;
+    for (size_t i = 16; i < r.reports.size(); ++i)
+        for (const objects::ObjectReport& o : r.reports[i])
+            tracked_after += (o.id == car.id && o.tracked) ? 1 : 0;
+    EXPECT_GE(tracked_after, 10) << "of the 12 frames after the restore";
+    EXPECT_GE(car.frames_tracked, 20u);
+    EXPECT_EQ(r.system->lost_frames(), 0u);
 }
 
 TEST(ObjectMaps, TheCapOnLiveMapsIsHitAndCounted) {

@@ -80,11 +80,11 @@ TEST_F(CheckpointTest, RoundTripKeepsTheMapByteForByteAndThePosesExactly) {
     ASSERT_GT(written.system.surfels.size(), 10000u);
     const auto t0 = std::chrono::steady_clock::now();
     ASSERT_TRUE(write_checkpoint(file("ck.bin"), written).is_ok());
-    std::printf("checkpoint of %zu surfels: %.1f MB written in %.1f ms (with fsync)\n",
-                written.system.surfels.size(),
-                static_cast<double>(std::filesystem::file_size(file("ck.bin"))) / 1e6,
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                    .count());
+    std::printf(
+        "checkpoint of %zu surfels: %.1f MB written in %.1f ms (with fsync)\n",
+        written.system.surfels.size(),
+        static_cast<double>(std::filesystem::file_size(file("ck.bin"))) / 1e6,
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     EXPECT_FALSE(std::filesystem::exists(file("ck.bin.tmp")));
     auto read = read_checkpoint(file("ck.bin"));
     ASSERT_TRUE(read.is_ok()) << read.status().message();
@@ -110,6 +110,46 @@ TEST_F(CheckpointTest, RoundTripKeepsTheMapByteForByteAndThePosesExactly) {
     EXPECT_EQ(a.input_width, 640);
     EXPECT_EQ(b.input_width, 640);
     EXPECT_EQ(b.input_height, 480);
+}
+
+TEST_F(CheckpointTest, AVersion1FileWithoutObjectMapsIsStillRead) {
+    auto system = SlamSystem::create(SystemConfig{});
+    ASSERT_TRUE(system.is_ok());
+    feed(*system, 0, 3);
+    const Checkpoint written = checkpoint_of(*system);
+    ASSERT_TRUE(written.system.objects.objects.empty());  // static_xyz: no object
+    ASSERT_TRUE(write_checkpoint(file("v2.bin"), written).is_ok());
+    std::ifstream in(file("v2.bin"), std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    // Version 1 is version 2 without the object section at the end of the payload (next id,
+    // five counters, a count of 0): cut it, and fix the header's version and length and the hash.
+    const size_t header = 8 + 4 + 8, objects = 4 + 5 * 8 + 8;
+    ASSERT_GT(bytes.size(), header + objects + 8);
+    std::string payload = bytes.substr(header, bytes.size() - header - 8 - objects);
+    uint64_t hash = 1469598103934665603ULL;
+    for (unsigned char ch : payload) hash = (hash ^ ch) * 1099511628211ULL;
+    const uint32_t version = 1;
+    const uint64_t length = payload.size();
+    std::string v1 = bytes.substr(0, 8);
+    v1.append(reinterpret_cast<const char*>(&version), sizeof version);
+    v1.append(reinterpret_cast<const char*>(&length), sizeof length);
+    v1 += payload;
+    v1.append(reinterpret_cast<const char*>(&hash), sizeof hash);
+    std::ofstream(file("v1.bin"), std::ios::binary) << v1;
+    auto read = read_checkpoint(file("v1.bin"));
+    ASSERT_TRUE(read.is_ok()) << read.status().message();
+    EXPECT_EQ(read->system.surfels.size(), written.system.surfels.size());
+    EXPECT_EQ(read->system.trajectory.size(), 3u);
+    EXPECT_TRUE(read->system.objects.objects.empty());
+    // A version this build does not know is refused, naming it.
+    std::string v9 = bytes;
+    v9[8] = 9;
+    std::ofstream(file("v9.bin"), std::ios::binary) << v9;
+    auto future = read_checkpoint(file("v9.bin"));
+    ASSERT_FALSE(future.is_ok());
+    EXPECT_NE(future.status().message().find("version 9, this build reads versions 1 to 2"),
+              std::string::npos)
+        << future.status().message();
 }
 
 TEST_F(CheckpointTest, CorruptTruncatedAndForeignFilesAreRefusedNamingTheFile) {
