@@ -40,6 +40,12 @@ struct SegmentationConfig {
     /// visible instance missed); true: such frames are left out.
     bool skip_missing = false;
     double max_stamp_difference_s = 1e-4;  ///< pairing prediction and GT files by stamp
+    /// > 0: an instance is scored in a frame only when it moved at least this far (metres)
+    /// since the previous ground-truth frame, by its trajectory (instances.json "trajectory",
+    /// objects/<name>.txt); in the other frames, and for instances without a trajectory, it is
+    /// left out of the ground truth (a segment on it then counts as a false positive).
+    /// 0: every frame where it is visible.
+    double moving_min_m = 0;
 };
 
 /// One ground-truth instance in one frame and the predicted segment matched to it.

@@ -7,6 +7,7 @@
 
 #include "eval/segmentation.hpp"
 #include "eval/trajectory_metrics.hpp"
+#include "io/tum/trajectory.hpp"
 #include "io/tum/tum_folder.hpp"
 
 namespace df::eval {
@@ -153,10 +154,38 @@ Result<SegmentationResult> score_segmentation_folders(const std::string& gt_sequ
     std::vector<int> pred_of_gt(gt_files->size(), -1);
     for (const StampMatch& m : matches) pred_of_gt[m.gt] = static_cast<int>(m.est);
 
+    // With moving_min_m: per instance, whether it moved since the previous GT frame.
+    std::vector<std::vector<bool>> still(instances->size());
+    if (config.moving_min_m > 0) {
+        for (size_t k = 0; k < instances->size(); ++k) {
+            const GtInstance& inst = (*instances)[k];
+            still[k].assign(gt_files->size(), true);
+            if (inst.trajectory.empty()) continue;
+            const std::string file = (fs::path(gt_sequence_dir) / inst.trajectory).string();
+            auto poses = io::read_tum_trajectory(file);
+            if (!poses) return poses.status();
+            std::vector<double> stamps;
+            for (const io::StampedPose& p : poses->poses) stamps.push_back(p.stamp_s);
+            const auto pairs = associate_stamps(gt_stamps, stamps, {1e-3, 0.0});
+            std::vector<int> pose_of_gt(gt_files->size(), -1);
+            for (const StampMatch& m : pairs) pose_of_gt[m.gt] = static_cast<int>(m.est);
+            for (size_t i = 1; i < gt_files->size(); ++i) {
+                if (pose_of_gt[i] < 0 || pose_of_gt[i - 1] < 0) continue;
+                const double moved = (poses->poses[static_cast<size_t>(pose_of_gt[i])].t -
+                                      poses->poses[static_cast<size_t>(pose_of_gt[i - 1])].t)
+                                         .norm();
+                still[k][i] = moved < config.moving_min_m;
+            }
+        }
+    }
     SegmentationScorer scorer(*instances, config);
     for (size_t i = 0; i < gt_files->size(); ++i) {
         auto gt = read_label_png((*gt_files)[i].path);
         if (!gt) return gt.status();
+        if (config.moving_min_m > 0) {
+            for (size_t k = 0; k < instances->size(); ++k)
+                if (still[k][i]) gt->setTo(0, *gt == (*instances)[k].id);
+        }
         cv::Mat pred;
         if (pred_of_gt[i] >= 0) {
             const std::string& pred_file = (*pred_files)[static_cast<size_t>(pred_of_gt[i])].path;

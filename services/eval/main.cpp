@@ -130,6 +130,11 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     seg->add_flag("--skip-missing", seg_config.skip_missing,
                   "leave out frames without a prediction (default: score them as empty)");
+    seg->add_option("--moving", seg_config.moving_min_m,
+                    "score an instance only in frames where it moved at least this far (m) "
+                    "since the previous frame, by its trajectory (0: every visible frame)")
+        ->check(CLI::Range(0.0, 100.0))
+        ->capture_default_str();
     add_outputs(seg, &out, false);
 
     std::vector<std::string> logs;

@@ -138,5 +138,37 @@ TEST(Segmentation, FoldersPairByStampAndCountMissingFrames) {
         << bad.status().message();
 }
 
+TEST(Segmentation, MovingOnlyScoresAnInstanceWhereItsTrajectoryMoved) {
+    TempFolder seq, pred;
+    write_file(seq / "instances.json",
+               R"({"instances": [
+                 {"id": 1, "name": "car_1", "class_id": 2, "class_name": "car", "kind": "rigid",
+                  "model": null, "trajectory": "objects/car_1.txt"},
+                 {"id": 2, "name": "person_1", "class_id": 0, "class_name": "person",
+                  "kind": "non_rigid", "model": null, "trajectory": null},
+                 {"id": 3, "name": "thing_1", "class_id": -1, "class_name": "unknown",
+                  "kind": "unknown", "model": null, "trajectory": null}]})");
+    // The car stands from the first frame to the second and moves 2 cm to the third.
+    write_file(seq / "objects/car_1.txt",
+               "1.000000 0 0 0 0 0 0 1\n1.033333 0 0 0 0 0 0 1\n1.066667 0.02 0 0 0 0 0 1\n");
+    std::filesystem::create_directories(seq / "instances");
+    for (const char* stamp : {"1.000000", "1.033333", "1.066667"}) {
+        ASSERT_TRUE(cv::imwrite(seq / ("instances/" + std::string(stamp) + ".png"), gt_frame()));
+        ASSERT_TRUE(cv::imwrite(pred / (std::string(stamp) + ".png"), pred_frame()));
+    }
+    SegmentationConfig moving;
+    moving.moving_min_m = 0.01;
+    auto r = score_segmentation_folders(seq.str(), pred.str(), moving);
+    ASSERT_TRUE(r) << r.status().to_string();
+    EXPECT_EQ(r->frames, 3u);
+    ASSERT_EQ(r->instances.size(), 1u) << "only the car, and only where it moved";
+    EXPECT_EQ(r->instances[0].instance.name, "car_1");
+    EXPECT_EQ(r->instances[0].frames_visible, 1u);
+    EXPECT_DOUBLE_EQ(r->instances[0].mean_iou, 0.8);
+    auto all = score_segmentation_folders(seq.str(), pred.str());
+    ASSERT_TRUE(all) << all.status().to_string();
+    EXPECT_EQ(all->instances[0].frames_visible, 3u);
+}
+
 }  // namespace
 }  // namespace df::eval
