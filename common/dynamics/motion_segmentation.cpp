@@ -37,6 +37,33 @@ std::string check_inputs(const MotionInput& in) {
     return "";
 }
 
+/// A vertex of the current camera (z > 0) moved into another camera and projected with the same
+/// intrinsics: false when it lies behind that camera or outside its cols x rows image.
+struct OtherCamera {
+    OtherCamera(const Eigen::Isometry3f& other_T_current, float fx_, float fy_, float cx_,
+                float cy_, cv::Size size)
+        : r(other_T_current.linear()),
+          t(other_T_current.translation()),
+          fx(fx_),
+          fy(fy_),
+          cx(cx_),
+          cy(cy_),
+          cols(size.width),
+          rows(size.height) {}
+    Eigen::Matrix3f r;
+    Eigen::Vector3f t;
+    float fx, fy, cx, cy;
+    int cols, rows;
+    bool project(const cv::Vec3f& v, int* u, int* w, float* z) const {
+        const Eigen::Vector3f q = r * Eigen::Vector3f(v[0], v[1], v[2]) + t;
+        if (!(q.z() > 0.f)) return false;
+        *u = static_cast<int>(std::lround(fx * q.x() / q.z() + cx));
+        *w = static_cast<int>(std::lround(fy * q.y() / q.z() + cy));
+        *z = q.z();
+        return *u >= 0 && *w >= 0 && *u < cols && *w < rows;
+    }
+};
+
 /// Whether a segment or region that is dynamic by its residual is still by its history:
 /// `seen` of its `size` pixels have evidence, `moved` of them were seen through.
 bool still(int size, int seen, int moved, const MotionSegmentationConfig& c) {
@@ -207,8 +234,7 @@ cv::Mat warp_mask(const cv::Mat& previous, const cv::Mat& vertex,
                   float cy) {
     cv::Mat out = cv::Mat::zeros(vertex.size(), CV_8UC1);
     if (previous.empty() || previous.size() != vertex.size()) return out;
-    const Eigen::Matrix3f r = previous_T_current.linear();
-    const Eigen::Vector3f t = previous_T_current.translation();
+    const OtherCamera previous_camera(previous_T_current, fx, fy, cx, cy, previous.size());
     for (int y = 0; y < vertex.rows; ++y) {
         const cv::Vec3f* v = vertex.ptr<cv::Vec3f>(y);
         uint8_t* o = out.ptr<uint8_t>(y);
@@ -217,12 +243,9 @@ cv::Mat warp_mask(const cv::Mat& previous, const cv::Mat& vertex,
                 o[x] = previous.at<uint8_t>(y, x);
                 continue;
             }
-            const Eigen::Vector3f q = r * Eigen::Vector3f(v[x][0], v[x][1], v[x][2]) + t;
-            if (!(q.z() > 0.f)) continue;
-            const int u = static_cast<int>(std::lround(fx * q.x() / q.z() + cx));
-            const int w = static_cast<int>(std::lround(fy * q.y() / q.z() + cy));
-            if (u < 0 || w < 0 || u >= previous.cols || w >= previous.rows) continue;
-            o[x] = previous.at<uint8_t>(w, u);
+            int u = 0, w = 0;
+            float z = 0.f;
+            if (previous_camera.project(v[x], &u, &w, &z)) o[x] = previous.at<uint8_t>(w, u);
         }
     }
     return out;
@@ -237,28 +260,24 @@ cv::Mat history_evidence(const cv::Mat& vertex, const cv::Mat& residual_m, const
         !residual_m.empty() && residual_m.type() == CV_32F && residual_m.size() == vertex.size();
     const bool with_rigid =
         !old_rigid.empty() && old_rigid.type() == CV_8UC1 && old_rigid.size() == old_depth.size();
-    const Eigen::Matrix3f r = old_T_current.linear();
-    const Eigen::Vector3f t = old_T_current.translation();
+    const OtherCamera old_camera(old_T_current, fx, fy, cx, cy, old_depth.size());
     for (int y = 0; y < vertex.rows; ++y) {
         const cv::Vec3f* v = vertex.ptr<cv::Vec3f>(y);
         const float* res = with_residual ? residual_m.ptr<float>(y) : nullptr;
         uint8_t* o = out.ptr<uint8_t>(y);
         for (int x = 0; x < vertex.cols; ++x) {
-            if (!(v[x][2] > 0.f)) continue;
-            const Eigen::Vector3f q = r * Eigen::Vector3f(v[x][0], v[x][1], v[x][2]) + t;
-            if (!(q.z() > 0.f)) continue;
-            const int u = static_cast<int>(std::lround(fx * q.x() / q.z() + cx));
-            const int w = static_cast<int>(std::lround(fy * q.y() / q.z() + cy));
-            if (u < 0 || w < 0 || u >= old_depth.cols || w >= old_depth.rows) continue;
+            int u = 0, w = 0;
+            float z = 0.f;
+            if (!(v[x][2] > 0.f) || !old_camera.project(v[x], &u, &w, &z)) continue;
             const float seen = old_depth.at<float>(w, u);
             if (!(seen > 0.f)) continue;
             const float split =
                 (res && std::isfinite(res[x]))
                     ? std::max(c.min_residual_m, c.history_split * std::fabs(res[x]))
-                    : c.min_residual_m + c.min_residual_per_m2 * q.z() * q.z();
-            if (seen > q.z() + split) {
+                    : c.min_residual_m + c.min_residual_per_m2 * z * z;
+            if (seen > z + split) {
                 o[x] = kMoved;
-            } else if (seen >= q.z() - split && (!with_rigid || old_rigid.at<uint8_t>(w, u))) {
+            } else if (seen >= z - split && (!with_rigid || old_rigid.at<uint8_t>(w, u))) {
                 o[x] = kStill;
             }
         }
