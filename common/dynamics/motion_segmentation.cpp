@@ -37,6 +37,13 @@ std::string check_inputs(const MotionInput& in) {
     return "";
 }
 
+/// A mask made on demand (MotionInput's *_source): empty, or CV_8UC1 of the residual's size.
+std::string check_lazy(const char* name, const cv::Mat& m, cv::Size size) {
+    if (m.empty() || (m.type() == CV_8UC1 && m.size() == size)) return "";
+    return std::string(name) + " must be CV_8UC1 " + std::to_string(size.width) + "x" +
+           std::to_string(size.height) + ", got " + describe(m);
+}
+
 /// A vertex of the current camera (z > 0) moved into another camera and projected with the same
 /// intrinsics: false when it lies behind that camera or outside its cols x rows image.
 struct OtherCamera {
@@ -57,8 +64,9 @@ struct OtherCamera {
     bool project(const cv::Vec3f& v, int* u, int* w, float* z) const {
         const Eigen::Vector3f q = r * Eigen::Vector3f(v[0], v[1], v[2]) + t;
         if (!(q.z() > 0.f)) return false;
-        *u = static_cast<int>(std::lround(fx * q.x() / q.z() + cx));
-        *w = static_cast<int>(std::lround(fy * q.y() / q.z() + cy));
+        const float inv_z = 1.f / q.z();
+        *u = cvRound(fx * q.x() * inv_z + cx);
+        *w = cvRound(fy * q.y() * inv_z + cy);
         *z = q.z();
         return *u >= 0 && *w >= 0 && *u < cols && *w < rows;
     }
@@ -132,32 +140,36 @@ Result<MotionResult> segment_motion(const MotionInput& in, const MotionSegmentat
             c.min_dynamic_fraction * static_cast<float>(out.residual_pixels))
         return out;
 
-    // 3. Grow to whole objects: segments with enough evidence ...
+    // The previous frame's motion, warped here, made only now that it counts.
+    const cv::Mat carried_mask =
+        (in.carried.empty() && in.carried_source) ? in.carried_source() : in.carried;
+    if (std::string e = check_lazy("carried", carried_mask, in.residual_m.size()); !e.empty())
+        return error(StatusCode::kInvalidArgument, "motion segmentation: " + e);
+
+    // 3. Grow to whole objects: candidate segments with enough evidence ...
     const bool with_segments = !in.geometric.empty() && in.geometric_count > 0;
+    const size_t segment_count = with_segments ? static_cast<size_t>(in.geometric_count) + 1 : 1;
+    std::vector<int> size(segment_count, 0);
+    std::vector<uint8_t> segment_candidate(segment_count, 0);
     if (with_segments) {
-        const size_t n = static_cast<size_t>(in.geometric_count) + 1;
-        std::vector<int> with_residual(n, 0), dyn(n, 0), geometric_dyn(n, 0), carried(n, 0),
-            size(n, 0), seen(n, 0), moved(n, 0);
+        const size_t n = segment_count;
+        std::vector<int> with_residual(n, 0), dyn(n, 0), geometric_dyn(n, 0), carried(n, 0);
         for (int y = 0; y < rows; ++y) {
             const int* g = in.geometric.ptr<int>(y);
             const float* r = in.residual_m.ptr<float>(y);
             const uint8_t* d = dynamic.ptr<uint8_t>(y);
-            const uint8_t* cm = in.carried.empty() ? nullptr : in.carried.ptr<uint8_t>(y);
+            const uint8_t* cm = carried_mask.empty() ? nullptr : carried_mask.ptr<uint8_t>(y);
             const uint8_t* ex = in.excluded.empty() ? nullptr : in.excluded.ptr<uint8_t>(y);
-            const uint8_t* h = in.history.empty() ? nullptr : in.history.ptr<uint8_t>(y);
             for (int x = 0; x < cols; ++x) {
                 const size_t s = static_cast<size_t>(g[x]);
                 if (s == 0 || (ex && ex[x])) continue;
                 ++size[s];
-                seen[s] += (h && h[x] != kNoEvidence) ? 1 : 0;
-                moved[s] += (h && h[x] == kMoved) ? 1 : 0;
                 with_residual[s] += std::isfinite(r[x]) ? 1 : 0;
                 dyn[s] += (d[x] == 255 || d[x] == 128) ? 1 : 0;
                 geometric_dyn[s] += d[x] == 255 ? 1 : 0;
                 carried[s] += (cm && cm[x]) ? 1 : 0;
             }
         }
-        std::vector<uint8_t> take(n, 0);
         for (size_t s = 1; s < n; ++s) {
             if (geometric_dyn[s] < c.min_segment_pixels || with_residual[s] == 0) continue;
             const bool was_dynamic =
@@ -165,58 +177,93 @@ Result<MotionResult> segment_motion(const MotionInput& in, const MotionSegmentat
                 static_cast<float>(carried[s]) >= c.carry_min_overlap * static_cast<float>(size[s]);
             const float need = was_dynamic ? c.carried_segment_fraction : c.min_segment_fraction;
             if (static_cast<float>(dyn[s]) < need * static_cast<float>(with_residual[s])) continue;
-            if (still(size[s], seen[s], moved[s], c)) {
-                ++out.still_segments;
-                continue;
-            }
-            take[s] = 255;
-            ++out.segments;
-        }
-        for (int y = 0; y < rows; ++y) {
-            const int* g = in.geometric.ptr<int>(y);
-            const uint8_t* ex = in.excluded.empty() ? nullptr : in.excluded.ptr<uint8_t>(y);
-            uint8_t* m = out.mask.ptr<uint8_t>(y);
-            for (int x = 0; x < cols; ++x)
-                if (take[static_cast<size_t>(g[x])] && !(ex && ex[x])) m[x] = 255;
+            segment_candidate[s] = 1;
         }
     }
     // ... and, outside every segment (far or small things the segmentation left unlabelled, or
     // everything when no segments came), connected regions of dynamic and weak pixels
     // (hysteresis) with at least min_region_pixels dynamic ones.
+    cv::Mat candidate = dynamic > 0;
+    if (with_segments) candidate.setTo(0, in.geometric != 0);
+    cv::Mat labels, stats, centroids;
+    const size_t region_count = static_cast<size_t>(
+        cv::connectedComponentsWithStats(candidate, labels, stats, centroids, 8));
+    std::vector<uint8_t> region_candidate(region_count, 0);
     {
-        cv::Mat candidate = dynamic > 0;
-        if (with_segments) candidate.setTo(0, in.geometric != 0);
-        cv::Mat labels, stats, centroids;
-        const int count = cv::connectedComponentsWithStats(candidate, labels, stats, centroids, 8);
-        const size_t n = static_cast<size_t>(count);
-        std::vector<int> strong(n, 0), seen(n, 0), moved(n, 0);
+        std::vector<int> strong(region_count, 0);
         for (int y = 0; y < rows; ++y) {
             const int* l = labels.ptr<int>(y);
             const uint8_t* d = dynamic.ptr<uint8_t>(y);
-            const uint8_t* h = in.history.empty() ? nullptr : in.history.ptr<uint8_t>(y);
-            for (int x = 0; x < cols; ++x) {
-                const size_t k = static_cast<size_t>(l[x]);
-                if (d[x] == 255) ++strong[k];
-                seen[k] += (h && h[x] != kNoEvidence) ? 1 : 0;
-                moved[k] += (h && h[x] == kMoved) ? 1 : 0;
-            }
-        }
-        std::vector<uint8_t> take(n, 0);
-        for (size_t k = 1; k < n; ++k) {
-            if (strong[k] < c.min_region_pixels) continue;
-            const int size = stats.at<int>(static_cast<int>(k), cv::CC_STAT_AREA);
-            if (still(size, seen[k], moved[k], c)) {
-                ++out.still_segments;
-                continue;
-            }
-            take[k] = 255;
-            ++out.segments;
-        }
-        for (int y = 0; y < rows; ++y) {
-            const int* l = labels.ptr<int>(y);
-            uint8_t* m = out.mask.ptr<uint8_t>(y);
             for (int x = 0; x < cols; ++x)
-                if (take[static_cast<size_t>(l[x])]) m[x] = 255;
+                if (d[x] == 255) ++strong[static_cast<size_t>(l[x])];
+        }
+        for (size_t k = 1; k < region_count; ++k)
+            region_candidate[k] = strong[k] >= c.min_region_pixels ? 1 : 0;
+    }
+    const bool any_candidate =
+        std::find(segment_candidate.begin(), segment_candidate.end(), 1) !=
+            segment_candidate.end() ||
+        std::find(region_candidate.begin(), region_candidate.end(), 1) != region_candidate.end();
+    if (!any_candidate) return out;
+
+    // 4. Free-space evidence from an older frame (made only when a candidate needs it): a
+    // candidate the old frame saw where it is now, never through, is still.
+    const cv::Mat history =
+        (in.history.empty() && in.history_source) ? in.history_source() : in.history;
+    if (std::string e = check_lazy("history", history, in.residual_m.size()); !e.empty())
+        return error(StatusCode::kInvalidArgument, "motion segmentation: " + e);
+    std::vector<int> segment_seen(segment_count, 0), segment_moved(segment_count, 0);
+    std::vector<int> region_seen(region_count, 0), region_moved(region_count, 0);
+    if (!history.empty()) {
+        for (int y = 0; y < rows; ++y) {
+            const int* g = with_segments ? in.geometric.ptr<int>(y) : nullptr;
+            const int* l = labels.ptr<int>(y);
+            const uint8_t* ex = in.excluded.empty() ? nullptr : in.excluded.ptr<uint8_t>(y);
+            const uint8_t* h = history.ptr<uint8_t>(y);
+            for (int x = 0; x < cols; ++x) {
+                if (h[x] == kNoEvidence) continue;
+                const int moved = h[x] == kMoved ? 1 : 0;
+                const size_t s = g ? static_cast<size_t>(g[x]) : 0;
+                if (s != 0 && segment_candidate[s] && !(ex && ex[x])) {
+                    ++segment_seen[s];
+                    segment_moved[s] += moved;
+                }
+                const size_t k = static_cast<size_t>(l[x]);
+                if (region_candidate[k]) {
+                    ++region_seen[k];
+                    region_moved[k] += moved;
+                }
+            }
+        }
+    }
+    std::vector<uint8_t> take_segment(segment_count, 0), take_region(region_count, 0);
+    for (size_t s = 1; s < segment_count; ++s) {
+        if (!segment_candidate[s]) continue;
+        if (still(size[s], segment_seen[s], segment_moved[s], c)) {
+            ++out.still_segments;
+            continue;
+        }
+        take_segment[s] = 1;
+        ++out.segments;
+    }
+    for (size_t k = 1; k < region_count; ++k) {
+        if (!region_candidate[k]) continue;
+        const int area = stats.at<int>(static_cast<int>(k), cv::CC_STAT_AREA);
+        if (still(area, region_seen[k], region_moved[k], c)) {
+            ++out.still_segments;
+            continue;
+        }
+        take_region[k] = 1;
+        ++out.segments;
+    }
+    for (int y = 0; y < rows; ++y) {
+        const int* g = with_segments ? in.geometric.ptr<int>(y) : nullptr;
+        const int* l = labels.ptr<int>(y);
+        const uint8_t* ex = in.excluded.empty() ? nullptr : in.excluded.ptr<uint8_t>(y);
+        uint8_t* m = out.mask.ptr<uint8_t>(y);
+        for (int x = 0; x < cols; ++x) {
+            const bool segment = g && take_segment[static_cast<size_t>(g[x])] && !(ex && ex[x]);
+            if (segment || take_region[static_cast<size_t>(l[x])]) m[x] = 255;
         }
     }
     if (c.dilate_px > 0 && out.segments > 0) {
@@ -235,19 +282,21 @@ cv::Mat warp_mask(const cv::Mat& previous, const cv::Mat& vertex,
     cv::Mat out = cv::Mat::zeros(vertex.size(), CV_8UC1);
     if (previous.empty() || previous.size() != vertex.size()) return out;
     const OtherCamera previous_camera(previous_T_current, fx, fy, cx, cy, previous.size());
-    for (int y = 0; y < vertex.rows; ++y) {
-        const cv::Vec3f* v = vertex.ptr<cv::Vec3f>(y);
-        uint8_t* o = out.ptr<uint8_t>(y);
-        for (int x = 0; x < vertex.cols; ++x) {
-            if (!(v[x][2] > 0.f)) {
-                o[x] = previous.at<uint8_t>(y, x);
-                continue;
+    cv::parallel_for_(cv::Range(0, vertex.rows), [&](const cv::Range& rows) {
+        for (int y = rows.start; y < rows.end; ++y) {
+            const cv::Vec3f* v = vertex.ptr<cv::Vec3f>(y);
+            uint8_t* o = out.ptr<uint8_t>(y);
+            for (int x = 0; x < vertex.cols; ++x) {
+                if (!(v[x][2] > 0.f)) {
+                    o[x] = previous.at<uint8_t>(y, x);
+                    continue;
+                }
+                int u = 0, w = 0;
+                float z = 0.f;
+                if (previous_camera.project(v[x], &u, &w, &z)) o[x] = previous.at<uint8_t>(w, u);
             }
-            int u = 0, w = 0;
-            float z = 0.f;
-            if (previous_camera.project(v[x], &u, &w, &z)) o[x] = previous.at<uint8_t>(w, u);
         }
-    }
+    });
     return out;
 }
 
@@ -261,27 +310,29 @@ cv::Mat history_evidence(const cv::Mat& vertex, const cv::Mat& residual_m, const
     const bool with_rigid =
         !old_rigid.empty() && old_rigid.type() == CV_8UC1 && old_rigid.size() == old_depth.size();
     const OtherCamera old_camera(old_T_current, fx, fy, cx, cy, old_depth.size());
-    for (int y = 0; y < vertex.rows; ++y) {
-        const cv::Vec3f* v = vertex.ptr<cv::Vec3f>(y);
-        const float* res = with_residual ? residual_m.ptr<float>(y) : nullptr;
-        uint8_t* o = out.ptr<uint8_t>(y);
-        for (int x = 0; x < vertex.cols; ++x) {
-            int u = 0, w = 0;
-            float z = 0.f;
-            if (!(v[x][2] > 0.f) || !old_camera.project(v[x], &u, &w, &z)) continue;
-            const float seen = old_depth.at<float>(w, u);
-            if (!(seen > 0.f)) continue;
-            const float split =
-                (res && std::isfinite(res[x]))
-                    ? std::max(c.min_residual_m, c.history_split * std::fabs(res[x]))
-                    : c.min_residual_m + c.min_residual_per_m2 * z * z;
-            if (seen > z + split) {
-                o[x] = kMoved;
-            } else if (seen >= z - split && (!with_rigid || old_rigid.at<uint8_t>(w, u))) {
-                o[x] = kStill;
+    cv::parallel_for_(cv::Range(0, vertex.rows), [&](const cv::Range& rows) {
+        for (int y = rows.start; y < rows.end; ++y) {
+            const cv::Vec3f* v = vertex.ptr<cv::Vec3f>(y);
+            const float* res = with_residual ? residual_m.ptr<float>(y) : nullptr;
+            uint8_t* o = out.ptr<uint8_t>(y);
+            for (int x = 0; x < vertex.cols; ++x) {
+                int u = 0, w = 0;
+                float z = 0.f;
+                if (!(v[x][2] > 0.f) || !old_camera.project(v[x], &u, &w, &z)) continue;
+                const float seen = old_depth.at<float>(w, u);
+                if (!(seen > 0.f)) continue;
+                const float split =
+                    (res && std::isfinite(res[x]))
+                        ? std::max(c.min_residual_m, c.history_split * std::fabs(res[x]))
+                        : c.min_residual_m + c.min_residual_per_m2 * z * z;
+                if (seen > z + split) {
+                    o[x] = kMoved;
+                } else if (seen >= z - split && (!with_rigid || old_rigid.at<uint8_t>(w, u))) {
+                    o[x] = kStill;
+                }
             }
         }
-    }
+    });
     return out;
 }
 

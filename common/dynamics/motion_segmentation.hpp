@@ -20,6 +20,7 @@
 ///   move.
 /// DDS-free.
 #include <Eigen/Geometry>
+#include <functional>
 #include <opencv2/core.hpp>
 #include <string>
 
@@ -58,6 +59,11 @@ struct MotionInput {
     /// CV_8UC1 or empty: free-space evidence from an older frame (history_evidence): a dynamic
     /// segment or region that the old frame saw but not through is still, not a mover.
     cv::Mat history;
+    /// Optional producers of `carried` and `history` when those are empty: called only when a
+    /// frame gets as far as growing segments (most frames stop at the guards before), so the
+    /// projections cost nothing on frames without motion.
+    std::function<cv::Mat()> carried_source;
+    std::function<cv::Mat()> history_source;
 };
 
 /// history_evidence's codes.

@@ -342,8 +342,8 @@ Result<cv::Mat> residual_image(const Frame& frame, const ModelView& model,
                 const float qy = R[3] * p[0] + R[4] * p[1] + R[5] * p[2] + t[1];
                 const float qz = R[6] * p[0] + R[7] * p[1] + R[8] * p[2] + t[2];
                 if (!(qz > 0.f)) continue;
-                const int u = static_cast<int>(std::lround(fx * qx / qz + cx));
-                const int v = static_cast<int>(std::lround(fy * qy / qz + cy));
+                const int u = cvRound(fx * qx / qz + cx);
+                const int v = cvRound(fy * qy / qz + cy);
                 if (u < 0 || v < 0 || u >= model.vertex.cols || v >= model.vertex.rows) continue;
                 const cv::Vec3f& m = model.vertex.at<cv::Vec3f>(v, u);
                 const cv::Vec3f& mn = model.normal.at<cv::Vec3f>(v, u);

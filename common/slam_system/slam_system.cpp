@@ -332,21 +332,28 @@ Status SlamSystem::track_static(const Input& in, const Eigen::Isometry3d& guess,
         motion.geometric_count = in.segments.geometric_count;
         motion.photometric = photometric;
         const io::Intrinsics& k = in.frame.levels[0].intrinsics;
+        // The older and the previous frame's projections are made only if the frame gets as
+        // far as growing segments (segment_motion calls these then).
+        const float fx = static_cast<float>(k.fx), fy = static_cast<float>(k.fy),
+                    cx = static_cast<float>(k.cx), cy = static_cast<float>(k.cy);
         if (d.motion.history_frames > 0 &&
             history_.size() == static_cast<size_t>(d.motion.history_frames)) {
-            const HistoryFrame& old = history_.front();
-            const Eigen::Isometry3d old_T_current = old.world_T_camera.inverse() * stage1_pose;
-            motion.history = dynamics::history_evidence(
-                in.frame.levels[0].vertex, residual, old.depth_m, old.rigid,
-                old_T_current.cast<float>(), static_cast<float>(k.fx), static_cast<float>(k.fy),
-                static_cast<float>(k.cx), static_cast<float>(k.cy), d.motion);
+            motion.history_source = [&, fx, fy, cx, cy]() {
+                const HistoryFrame& old = history_.front();
+                const Eigen::Isometry3d old_T_current = old.world_T_camera.inverse() * stage1_pose;
+                return dynamics::history_evidence(in.frame.levels[0].vertex, residual,
+                                                  old.depth_m, old.rigid,
+                                                  old_T_current.cast<float>(), fx, fy, cx, cy,
+                                                  d.motion);
+            };
         }
         if (d.carry_forward && !previous_motion_.empty() && !lost_) {
-            const Eigen::Isometry3d previous_T_current = world_T_camera_.inverse() * stage1_pose;
-            motion.carried = dynamics::warp_mask(
-                previous_motion_, in.frame.levels[0].vertex, previous_T_current.cast<float>(),
-                static_cast<float>(k.fx), static_cast<float>(k.fy), static_cast<float>(k.cx),
-                static_cast<float>(k.cy));
+            motion.carried_source = [&, fx, fy, cx, cy]() {
+                const Eigen::Isometry3d previous_T_current =
+                    world_T_camera_.inverse() * stage1_pose;
+                return dynamics::warp_mask(previous_motion_, in.frame.levels[0].vertex,
+                                           previous_T_current.cast<float>(), fx, fy, cx, cy);
+            };
         }
         Result<dynamics::MotionResult> m = dynamics::segment_motion(motion, d.motion);
         if (!m) return m.status();
