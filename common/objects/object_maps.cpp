@@ -81,6 +81,7 @@ ObjectMaps::ObjectMaps(const ObjectMapsConfig& config, const slam::TrackingConfi
                        const map::SurfelMapConfig& map, const map::PredictionConfig& prediction)
     : config_(config), tracking_(tracking), map_config_(map), prediction_(prediction) {
     tracking_.min_inliers = config.min_inliers;
+    tracking_.inlier_residual_m = config.inlier_residual_m;
     map_config_.max_surfels = config.max_surfels;
     // Every surfel of a small map counts: the object's model is rendered whole.
     prediction_.min_confidence = 0.f;

@@ -85,20 +85,23 @@ SensorConfig SensorConfig::ideal() {
     SensorConfig c;
     c.depth_noise = c.quantisation = c.projector_shadow = c.edge_holes = c.grazing_holes = false;
     c.dropouts = c.colour_noise = c.exposure_changes = c.vignetting = c.colour_blur = false;
+    c.motion_blur = false;
     return c;
 }
 
 const std::vector<std::string>& sensor_effects() {
     static const std::vector<std::string> names = {
         "depth_noise", "quantisation", "projector_shadow", "edge_holes", "grazing_holes",
-        "dropouts",    "colour_noise", "exposure_changes", "vignetting", "colour_blur"};
+        "dropouts",    "colour_noise", "exposure_changes", "vignetting", "colour_blur",
+        "motion_blur"};
     return names;
 }
 
 bool set_sensor_effect(SensorConfig* c, const std::string& name, bool enabled) {
     bool* flags[] = {
         &c->depth_noise, &c->quantisation, &c->projector_shadow, &c->edge_holes, &c->grazing_holes,
-        &c->dropouts,    &c->colour_noise, &c->exposure_changes, &c->vignetting, &c->colour_blur};
+        &c->dropouts,    &c->colour_noise, &c->exposure_changes, &c->vignetting, &c->colour_blur,
+        &c->motion_blur};
     const auto& names = sensor_effects();
     for (size_t i = 0; i < names.size(); ++i) {
         if (names[i] == name) {

@@ -42,6 +42,12 @@ struct SensorConfig {
     double vignetting_strength = 0.22;  ///< relative darkening in the corners
     bool colour_blur = true;
     double blur_sigma_px = 0.6;
+    /// Motion blur of the colour image: the colour is the mean of blur_samples renders spread
+    /// over the exposure time, centred on the frame's stamp (depth and instances stay those of
+    /// the centre). Off by default (a still or slow camera shows none); on in static_fast.
+    bool motion_blur = false;
+    double exposure_s = 0.02;
+    int blur_samples = 5;
     double gain = 1.0;  ///< overall exposure
 
     /// An ideal sensor: exact depth and colour (only the range limits remain).
@@ -49,7 +55,8 @@ struct SensorConfig {
 };
 
 /// Names of the switchable effects: depth_noise, quantisation, projector_shadow, edge_holes,
-/// grazing_holes, dropouts, colour_noise, exposure_changes, vignetting, colour_blur.
+/// grazing_holes, dropouts, colour_noise, exposure_changes, vignetting, colour_blur,
+/// motion_blur.
 const std::vector<std::string>& sensor_effects();
 /// Switches effect `name` on or off; false for an unknown name.
 bool set_sensor_effect(SensorConfig* config, const std::string& name, bool enabled);

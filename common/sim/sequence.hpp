@@ -42,9 +42,16 @@ struct Sequence {
 
 /// Poses of camera and objects at frame `frame`.
 FrameState frame_state(const Sequence& sequence, int frame);
+/// Poses of camera and objects at time t_s (seconds from the first frame).
+FrameState state_at(const Sequence& sequence, double t_s);
 
 /// Renders frame `frame` without noise (threads <= 0: all).
 RenderBuffers render_frame(const Sequence& sequence, int frame, int threads = 0);
+
+/// The sensor's motion blur (SensorConfig::motion_blur; nothing when off): the colour of frame
+/// `frame` becomes the mean of blur_samples renders spread over the exposure, centred on the
+/// frame's time (`buffers` is that frame's render; depth and instances stay the centre's).
+void apply_motion_blur(const Sequence& sequence, int frame, int threads, RenderBuffers* buffers);
 
 /// Intrinsics of a 640x480 calibration scaled to width x height (pixel centres kept aligned).
 io::Intrinsics scale_intrinsics(const io::Intrinsics& k640, int width, int height);

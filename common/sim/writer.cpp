@@ -3,6 +3,7 @@
 #include <zlib.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -137,6 +138,9 @@ nlohmann::ordered_json sensor_json(const SensorConfig& c) {
     j["exposure_changes"] = {{"enabled", c.exposure_changes}, {"amplitude", c.exposure_amplitude}};
     j["vignetting"] = {{"enabled", c.vignetting}, {"strength", c.vignetting_strength}};
     j["colour_blur"] = {{"enabled", c.colour_blur}, {"sigma_px", c.blur_sigma_px}};
+    j["motion_blur"] = {{"enabled", c.motion_blur},
+                        {"exposure_s", c.exposure_s},
+                        {"samples", c.blur_samples}};
     return j;
 }
 
@@ -244,6 +248,7 @@ Result<WriteReport> write_sequence(const Sequence& s, const std::string& folder,
     for (int i = 0; i < s.frames; ++i) {
         const FrameState state = frame_state(s, i);
         RenderBuffers buffers = render(s.scene, state, config);
+        apply_motion_blur(s, i, config.threads, &buffers);
         SensorFrame sensor = apply_sensor(buffers, s.sensor, s.intrinsics, s.depth_units_per_m,
                                           s.seed, i, s.time_s(i), options.threads);
         const std::string stamp = stamp_text(s.stamp_us(i));

@@ -130,8 +130,9 @@ std::string lost_reason(const Figures& f, const TrackingResult& r, const Eigen::
         msg << "ICP inliers " << r.inliers << " < min_inliers " << c.min_inliers << " ("
             << f.valid << " frame pixels on the model)";
     } else if (r.inlier_ratio < c.min_inlier_ratio) {
-        msg << "ICP inlier ratio " << r.inlier_ratio << " (" << r.inliers << "/" << f.valid
-            << ") < min_inlier_ratio " << c.min_inlier_ratio;
+        msg << "ICP inlier ratio " << r.inlier_ratio << " ("
+            << (c.inlier_residual_m > 0.f ? f.icp.agreeing : f.icp.used) << "/" << f.valid
+            << " correspondences agree) < min_inlier_ratio " << c.min_inlier_ratio;
     } else if (f.frame_valid > 0 &&
                static_cast<float>(r.inliers) / static_cast<float>(f.frame_valid) <
                    c.min_frame_inlier_ratio) {
@@ -274,7 +275,8 @@ Result<TrackingResult> track(const Frame& frame, const ModelView& model,
     }
 
     result.inliers = figures.icp.used;
-    result.inlier_ratio = figures.valid > 0 ? static_cast<float>(figures.icp.used) /
+    const int agreeing = config.inlier_residual_m > 0.f ? figures.icp.agreeing : figures.icp.used;
+    result.inlier_ratio = figures.valid > 0 ? static_cast<float>(agreeing) /
                                                   static_cast<float>(figures.valid)
                                             : 0.f;
     result.icp_rmse_m =

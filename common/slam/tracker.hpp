@@ -56,7 +56,8 @@ struct TrackingResult {
     /// tracker computes its residuals there (moving objects can fail the inlier checks).
     Eigen::Isometry3d estimate = Eigen::Isometry3d::Identity();
     /// Figures at the finest level tracked, after the last iteration.
-    float inlier_ratio = 0.f;  ///< ICP inliers / valid frame pixels landing on the model
+    float inlier_ratio = 0.f;  ///< agreeing correspondences / valid frame pixels landing on the
+                               ///< model (tracking.inlier_residual_m)
     int inliers = 0;           ///< ICP inliers
     float icp_rmse_m = 0.f;    ///< RMS point-to-plane residual of the inliers
     float rgb_rmse = 0.f;      ///< RMS photometric residual of the pixels used (0 if none)

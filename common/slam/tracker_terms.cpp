@@ -204,6 +204,7 @@ cv::Mat downsample_intensity(const cv::Mat& intensity, cv::Size size) {
 void NormalEquations::add(const NormalEquations& other) {
     for (size_t i = 0; i < a.size(); ++i) a[i] += other.a[i];
     for (size_t i = 0; i < b.size(); ++i) b[i] += other.b[i];
+    agreeing += other.agreeing;
     residual_sq += other.residual_sq;
     weighted_sq += other.weighted_sq;
     used += other.used;
@@ -264,6 +265,7 @@ NormalEquations accumulate_icp(const FrameLevel& frame, const cv::Mat& mask, int
     const float max_v = static_cast<float>(model.vertex.rows) - 0.5f;
     const float max_d2 = config.icp_max_distance_m * config.icp_max_distance_m;
     const float max_sin2 = config.icp_max_normal_sin * config.icp_max_normal_sin;
+    const float agree_m = config.inlier_residual_m;
     const float huber = config.icp_huber_m;
     const float max_z = config.max_depth_m > 0.f ? config.max_depth_m
                                                  : std::numeric_limits<float>::infinity();
@@ -316,10 +318,11 @@ NormalEquations accumulate_icp(const FrameLevel& frame, const cv::Mat& mask, int
                 const float ny = R[3] * n[0] + R[4] * n[1] + R[5] * n[2];
                 const float nz = R[6] * n[0] + R[7] * n[1] + R[8] * n[2];
                 if (nx * mn[0] + ny * mn[1] + nz * mn[2] <= 0.f) continue;
+                const float r = mn[0] * dx + mn[1] * dy + mn[2] * dz;
+                eq.agreeing += std::fabs(r) <= agree_m ? 1 : 0;
                 const float sx = ny * mn[2] - nz * mn[1], sy2 = nz * mn[0] - nx * mn[2],
                             sz = nx * mn[1] - ny * mn[0];
                 if (sx * sx + sy2 * sy2 + sz * sz > max_sin2) continue;
-                const float r = mn[0] * dx + mn[1] * dy + mn[2] * dz;
                 // d r / d t = n_model, d r / d w = q x n_model.
                 const float j[6] = {mn[0],
                                     mn[1],

@@ -23,6 +23,7 @@ struct NormalEquations {
     double residual_sq = 0.0;  ///< sum of the unweighted squared residuals of the pixels used
     double weighted_sq = 0.0;  ///< sum of their Huber-weighted squares (w r^2: outliers count |r|)
     int used = 0;              ///< pixels that contributed (ICP: inliers)
+    int agreeing = 0;          ///< ICP: correspondences agreeing, whatever the normals' angle
 
     void add(const NormalEquations& other);
 };

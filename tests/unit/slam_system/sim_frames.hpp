@@ -29,7 +29,8 @@ inline sim::Sequence make_noisy_sequence(const std::string& preset, int frames) 
 
 /// Renders frame i of `s` with its sensor model (noise as the preset says).
 inline SimFrame render_sim_frame(const sim::Sequence& s, int i) {
-    const sim::RenderBuffers buffers = sim::render_frame(s, i);
+    sim::RenderBuffers buffers = sim::render_frame(s, i);
+    sim::apply_motion_blur(s, i, 0, &buffers);
     sim::SensorFrame sensor = sim::apply_sensor(buffers, s.sensor, s.intrinsics,
                                                 s.depth_units_per_m, s.seed, i, s.time_s(i), 0);
     SimFrame f;
