@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/log.hpp"
+#include "sim/sensor.hpp"
 #include "sim/sequence.hpp"
 #include "sim/writer.hpp"
 
@@ -35,10 +36,11 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(12, 4096));
     app.add_flag("--no-noise", no_noise, "ideal sensor: exact depth and colour, no holes");
     std::vector<std::string> effects_off;
+    std::string effect_names;
+    for (const std::string& e : df::sim::sensor_effects())
+        effect_names += (effect_names.empty() ? "" : ", ") + e;
     app.add_option("--sensor-off", effects_off,
-                   "sensor effects to switch off (depth_noise, quantisation, projector_shadow, "
-                   "edge_holes, grazing_holes, dropouts, colour_noise, exposure_changes, "
-                   "vignetting, colour_blur)")
+                   "sensor effects to switch off (" + effect_names + ")")
         ->delimiter(',');
     app.add_flag("--no-models", no_models, "skip models/*.ply");
     app.add_option("--threads", threads, "worker threads (0: all cores; output is the same)")
