@@ -83,6 +83,7 @@ ObjectMaps::ObjectMaps(const ObjectMapsConfig& config, const slam::TrackingConfi
     tracking_.min_inliers = config.min_inliers;
     tracking_.inlier_residual_m = config.inlier_residual_m;
     map_config_.max_surfels = config.max_surfels;
+    map_config_.unstable_max_unseen_frames = config.unstable_max_unseen_frames;
     // Every surfel of a small map counts: the object's model is rendered whole.
     prediction_.min_confidence = 0.f;
 }
