@@ -140,14 +140,14 @@ Result<MotionResult> segment_motion(const MotionInput& in, const MotionSegmentat
             c.min_dynamic_fraction * static_cast<float>(out.residual_pixels))
         return out;
 
-    // The previous frame's motion, warped here, made only now that it counts.
-    const cv::Mat carried_mask =
-        (in.carried.empty() && in.carried_source) ? in.carried_source() : in.carried;
-    if (std::string e = check_lazy("carried", carried_mask, in.residual_m.size()); !e.empty())
-        return error(StatusCode::kInvalidArgument, "motion segmentation: " + e);
-
     // 3. Grow to whole objects: candidate segments with enough evidence ...
     const bool with_segments = !in.geometric.empty() && in.geometric_count > 0;
+    // The previous frame's motion, warped here, made only now that it counts (for segments).
+    const cv::Mat carried_mask = (with_segments && in.carried.empty() && in.carried_source)
+                                     ? in.carried_source()
+                                     : in.carried;
+    if (std::string e = check_lazy("carried", carried_mask, in.residual_m.size()); !e.empty())
+        return error(StatusCode::kInvalidArgument, "motion segmentation: " + e);
     const size_t segment_count = with_segments ? static_cast<size_t>(in.geometric_count) + 1 : 1;
     std::vector<int> size(segment_count, 0);
     std::vector<uint8_t> segment_candidate(segment_count, 0);

@@ -286,23 +286,25 @@ FrameState state_at(const Sequence& s, double t) {
     return state;
 }
 
-RenderBuffers render_frame(const Sequence& s, int frame, int threads) {
+namespace {
+RenderConfig render_config(const Sequence& s, int threads) {
     RenderConfig config;
     config.width = s.width;
     config.height = s.height;
     config.intrinsics = s.intrinsics;
     config.threads = threads;
-    return render(s.scene, frame_state(s, frame), config);
+    return config;
+}
+}  // namespace
+
+RenderBuffers render_frame(const Sequence& s, int frame, int threads) {
+    return render(s.scene, frame_state(s, frame), render_config(s, threads));
 }
 
 void apply_motion_blur(const Sequence& s, int frame, int threads, RenderBuffers* buffers) {
     const int n = s.sensor.blur_samples;
     if (!s.sensor.motion_blur || !(s.sensor.exposure_s > 0.0) || n < 2) return;
-    RenderConfig config;
-    config.width = s.width;
-    config.height = s.height;
-    config.intrinsics = s.intrinsics;
-    config.threads = threads;
+    const RenderConfig config = render_config(s, threads);
     cv::Mat sum = cv::Mat::zeros(buffers->colour.size(), CV_32FC3);
     for (int k = 0; k < n; ++k) {
         const double offset = s.sensor.exposure_s * (static_cast<double>(k) / (n - 1) - 0.5);

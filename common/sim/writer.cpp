@@ -3,7 +3,6 @@
 #include <zlib.h>
 
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>

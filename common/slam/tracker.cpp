@@ -121,6 +121,11 @@ struct Figures {
     double condition = 0.0;
 };
 
+/// The correspondences the inlier ratio counts (tracking.inlier_residual_m; 0: the ICP inliers).
+int agreeing_count(const Figures& f, const TrackingConfig& c) {
+    return c.inlier_residual_m > 0.f ? f.icp.agreeing : f.icp.used;
+}
+
 std::string lost_reason(const Figures& f, const TrackingResult& r, const Eigen::Isometry3d& moved,
                         const TrackingConfig& c) {
     std::ostringstream msg;
@@ -130,9 +135,8 @@ std::string lost_reason(const Figures& f, const TrackingResult& r, const Eigen::
         msg << "ICP inliers " << r.inliers << " < min_inliers " << c.min_inliers << " ("
             << f.valid << " frame pixels on the model)";
     } else if (r.inlier_ratio < c.min_inlier_ratio) {
-        msg << "ICP inlier ratio " << r.inlier_ratio << " ("
-            << (c.inlier_residual_m > 0.f ? f.icp.agreeing : f.icp.used) << "/" << f.valid
-            << " correspondences agree) < min_inlier_ratio " << c.min_inlier_ratio;
+        msg << "ICP inlier ratio " << r.inlier_ratio << " (" << agreeing_count(f, c) << "/"
+            << f.valid << " correspondences agree) < min_inlier_ratio " << c.min_inlier_ratio;
     } else if (f.frame_valid > 0 &&
                static_cast<float>(r.inliers) / static_cast<float>(f.frame_valid) <
                    c.min_frame_inlier_ratio) {
@@ -275,10 +279,10 @@ Result<TrackingResult> track(const Frame& frame, const ModelView& model,
     }
 
     result.inliers = figures.icp.used;
-    const int agreeing = config.inlier_residual_m > 0.f ? figures.icp.agreeing : figures.icp.used;
-    result.inlier_ratio = figures.valid > 0 ? static_cast<float>(agreeing) /
-                                                  static_cast<float>(figures.valid)
-                                            : 0.f;
+    result.inlier_ratio = figures.valid > 0
+                              ? static_cast<float>(agreeing_count(figures, config)) /
+                                    static_cast<float>(figures.valid)
+                              : 0.f;
     result.icp_rmse_m =
         figures.icp.used > 0
             ? static_cast<float>(std::sqrt(figures.icp.residual_sq / figures.icp.used))
