@@ -39,6 +39,9 @@ struct ObjectMapsConfig {
     /// The models: 1 cm, since objects are a few tens of cm and their ground truth is sampled
     /// every 4 mm (the map's 5 cm would hide most errors on a suitcase).
     ReconstructionConfig model{0.01};
+    /// The model is also scored after a rigid registration onto the ground-truth model,
+    /// starting from the first-pose alignment: its shape apart from that one pose's error.
+    RegistrationConfig model_registration;
 };
 
 /// A ground-truth instance and the estimated object matched to it, scored.
@@ -49,6 +52,11 @@ struct ObjectMapScore {
     std::optional<ObjectTrajectoryResult> trajectory;  ///< absent: see errors
     std::optional<ReconstructionResult> model;         ///< absent: see model_note or errors
     std::string model_note;                            ///< why no model was scored
+    /// The model after rigid registration onto the ground truth (absent: see
+    /// model_registration_note), and the registration.
+    std::optional<ReconstructionResult> model_registered;
+    std::optional<RegistrationResult> model_registration;
+    std::string model_registration_note;
     Trajectory gt_poses, est_poses;                    ///< as read, for figures
     std::string gt_trajectory_file, est_trajectory_file;
 };

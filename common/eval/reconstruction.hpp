@@ -39,6 +39,40 @@ Result<ReconstructionResult> score_reconstruction(const std::vector<Eigen::Vecto
                                                   const std::vector<Eigen::Vector3d>& est,
                                                   const ReconstructionConfig& config = {});
 
+/// Rigid registration of a reconstruction onto its ground truth (trimmed point-to-plane ICP, the
+/// ground truth's normals from its points' neighbourhoods):
+/// separates the model's shape from the pose error that placed it. An object model is moved
+/// into the ground-truth object frame by its first pose pair, so a 1 cm error of that one pose
+/// shifts every point by 1 cm and a 1 cm accuracy figure then measures the pose, not the model.
+struct RegistrationConfig {
+    int max_iterations = 50;
+    /// Pairs farther apart than this are left out (the part of a reconstruction the ground
+    /// truth lacks, e.g. floor fused into an object's model, does not pull the fit).
+    double max_distance_m = 0.03;
+    /// Iterations stop when the update moves no point of the reconstruction's bounding box by
+    /// more than this.
+    double min_update_m = 1e-6;
+};
+
+struct RegistrationResult {
+    Eigen::Isometry3d gt_T_est = Eigen::Isometry3d::Identity();  ///< refined
+    /// The correction applied on top of the initial gt_T_est (in the ground-truth frame): how far
+    /// the initial alignment was from the best fit.
+    double correction_translation_m = 0;
+    double correction_rotation_deg = 0;
+    int iterations = 0;
+    size_t pairs = 0;  ///< pairs within max_distance_m at the end
+    double rmse_m = 0;  ///< their RMS distance
+};
+
+/// Refines `initial` gt_T_est so that `est` fits `gt` best. kInvalidArgument if either set is
+/// empty, the configuration is invalid, or fewer than 6 points of
+/// `est` lie within max_distance_m of `gt` at an iteration (nothing to fit).
+Result<RegistrationResult> register_reconstruction(const std::vector<Eigen::Vector3d>& gt,
+                                                   const std::vector<Eigen::Vector3d>& est,
+                                                   const Eigen::Isometry3d& initial_gt_T_est,
+                                                   const RegistrationConfig& config = {});
+
 /// Applies gt_T_est to every point.
 std::vector<Eigen::Vector3d> transform_points(const Eigen::Isometry3d& gt_T_est,
                                               const std::vector<Eigen::Vector3d>& points);

@@ -24,6 +24,7 @@ nlohmann::json to_json(const AteResult& ate);
 nlohmann::json to_json(const RpeResult& rpe);
 nlohmann::json to_json(const ObjectTrajectoryResult& object);
 nlohmann::json to_json(const ReconstructionResult& recon);
+nlohmann::json to_json(const RegistrationResult& registration);
 nlohmann::json to_json(const SegmentationResult& seg);
 nlohmann::json to_json(const std::vector<TimingStats>& timing);
 /// The top-level keys of a run's eval.json for object maps: {"objects": {gt name: {...}},
@@ -39,6 +40,8 @@ std::string format_ate(const AteResult& ate, const std::string& title);
 std::string format_rpe(const RpeResult& rpe, const std::string& title);
 std::string format_object(const ObjectTrajectoryResult& object, const std::string& title);
 std::string format_reconstruction(const ReconstructionResult& recon, const std::string& title);
+/// One line: how far the registration moved the reconstruction, its pairs and iterations.
+std::string format_registration(const RegistrationResult& registration);
 std::string format_segmentation(const SegmentationResult& seg, const std::string& title);
 /// One line per rigid instance (and any other matched one), then duplicated / spurious / missed.
 std::string format_object_maps(const ObjectMapsResult& objects, const std::string& title);

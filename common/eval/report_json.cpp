@@ -71,6 +71,17 @@ json to_json(const ReconstructionResult& r) {
             {"gt_to_est_m", to_json(r.gt_to_est_m)}};
 }
 
+json to_json(const RegistrationResult& r) {
+    const Eigen::Quaterniond q(r.gt_T_est.linear());
+    const Eigen::Vector3d t = r.gt_T_est.translation();
+    return {{"gt_T_est", {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()}},
+            {"correction_translation_m", r.correction_translation_m},
+            {"correction_rotation_deg", r.correction_rotation_deg},
+            {"iterations", r.iterations},
+            {"pairs", r.pairs},
+            {"pairs_rmse_m", r.rmse_m}};
+}
+
 json to_json(const SegmentationResult& seg) {
     json instances = json::array();
     for (const InstanceScore& s : seg.instances) {
@@ -168,6 +179,12 @@ json to_json(const ObjectMapsResult& r) {
             o["model"] = to_json(*s.model);
         } else if (!s.model_note.empty()) {
             o["model_skipped"] = s.model_note;
+        }
+        if (s.model_registered) {
+            o["model_registered"] = to_json(*s.model_registered);
+            o["model_registered"]["registration"] = to_json(*s.model_registration);
+        } else if (!s.model_registration_note.empty()) {
+            o["model_registered_skipped"] = s.model_registration_note;
         }
         objects[s.instance.name] = o;
     }

@@ -189,6 +189,19 @@ std::string format_object_maps(const ObjectMapsResult& r, const std::string& tit
         items.push_back(format("%d of %s (mask IoU %.3f, %zu frames)", d.est_id,
                                name_of(r, d.gt_id).c_str(), d.iou, d.frames));
     }
+    for (const ObjectMapScore& o : r.objects) {
+        if (o.model_registered) {
+            s += format("  %s model after rigid registration onto the ground truth (%s): "
+                        "acc %.4f, complete %.4f %s\n",
+                        o.instance.name.c_str(),
+                        format_registration(*o.model_registration).c_str(),
+                        o.model_registered->accuracy, o.model_registered->completeness,
+                        at.c_str());
+        } else if (!o.model_registration_note.empty()) {
+            s += format("  %s model not registered: %s\n", o.instance.name.c_str(),
+                        o.model_registration_note.c_str());
+        }
+    }
     s += list_line("duplicated", items);
     items.clear();
     for (const SpuriousObject& sp : a.spurious) {
@@ -199,6 +212,12 @@ std::string format_object_maps(const ObjectMapsResult& r, const std::string& tit
     for (int id : a.missed) items.push_back(name_of(r, id));
     s += list_line("missed", items);
     return s;
+}
+
+std::string format_registration(const RegistrationResult& r) {
+    return format("moved %.2f cm, %.2f deg; %zu pairs at %.2f cm RMS, %d iterations",
+                  100 * r.correction_translation_m, r.correction_rotation_deg, r.pairs,
+                  100 * r.rmse_m, r.iterations);
 }
 
 std::string format_timing(const std::vector<TimingStats>& timing, const std::string& title) {

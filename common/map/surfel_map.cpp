@@ -113,9 +113,11 @@ void SurfelMap::project_active(const Eigen::Isometry3f& camera_T_world, const io
     }
 }
 
-void SurfelMap::prepare_weights(int width, int height, const io::Intrinsics& intrinsics) {
-    const float half_diagonal_px =
-        0.5f * std::sqrt(static_cast<float>(width * width + height * height));
+void SurfelMap::prepare_weights(int width, int height, const io::Intrinsics& intrinsics,
+                                const cv::Size& sensor_size) {
+    const cv::Size whole = sensor_size.empty() ? cv::Size(width, height) : sensor_size;
+    const float half_diagonal_px = 0.5f * std::sqrt(static_cast<float>(
+                                              whole.width * whole.width + whole.height * whole.height));
     const float weight_scale = -1.f / (2.f * config_.confidence_sigma * config_.confidence_sigma *
                                        half_diagonal_px * half_diagonal_px);
     // exp(a (du^2 + dv^2)) = exp(a du^2) exp(a dv^2): width + height exponentials a frame.
@@ -134,7 +136,7 @@ void SurfelMap::prepare_weights(int width, int height, const io::Intrinsics& int
 Result<FusionStats> SurfelMap::carve(const cv::Mat& vertex_map_cam, const cv::Mat& mask,
                                      const Eigen::Isometry3f& world_T_camera,
                                      const io::Intrinsics& intrinsics, int frame_index,
-                                     bool keep_stable) {
+                                     bool keep_stable, const cv::Size& sensor_size) {
     DF_RETURN_IF_ERROR(check_image(vertex_map_cam, "vertex map", CV_32FC3, vertex_map_cam.size()));
     if (!mask.empty()) DF_RETURN_IF_ERROR(check_image(mask, "mask", CV_8UC1, vertex_map_cam.size()));
     if (!(intrinsics.fx > 0) || !(intrinsics.fy > 0)) {
@@ -142,7 +144,7 @@ Result<FusionStats> SurfelMap::carve(const cv::Mat& vertex_map_cam, const cv::Ma
     }
     FusionStats stats;
     if (config_.remove_free_space) {
-        prepare_weights(vertex_map_cam.cols, vertex_map_cam.rows, intrinsics);
+        prepare_weights(vertex_map_cam.cols, vertex_map_cam.rows, intrinsics, sensor_size);
         remove_free_space(vertex_map_cam, mask, world_T_camera.inverse(), intrinsics, frame_index,
                           surfels_.size(), stats, keep_stable);
     }
@@ -156,7 +158,8 @@ Result<FusionStats> SurfelMap::fuse(const cv::Mat& vertex_map_cam, const cv::Mat
                                     const cv::Mat& rgb, const cv::Mat& mask,
                                     const cv::Mat& index_map,
                                     const Eigen::Isometry3f& world_T_camera,
-                                    const io::Intrinsics& intrinsics, int frame_index) {
+                                    const io::Intrinsics& intrinsics, int frame_index,
+                                    const FuseOptions& options) {
     DF_RETURN_IF_ERROR(
         check_inputs(vertex_map_cam, normal_map_cam, rgb, mask, index_map, intrinsics));
     const int width = vertex_map_cam.cols;
@@ -169,7 +172,7 @@ Result<FusionStats> SurfelMap::fuse(const cv::Mat& vertex_map_cam, const cv::Mat
     const Eigen::Vector3f world_t_camera = world_T_camera.translation();
     const Eigen::Matrix3f camera_R_world = camera_T_world.linear();
     const Eigen::Vector3f camera_t_world = camera_T_world.translation();
-    prepare_weights(width, height, intrinsics);
+    prepare_weights(width, height, intrinsics, options.sensor_size);
     const float radius_scale =
         std::sqrt(2.f) * 2.f / static_cast<float>(intrinsics.fx + intrinsics.fy);
     const float min_normal_dot = std::cos(config_.max_normal_angle_rad);
@@ -305,6 +308,10 @@ Result<FusionStats> SurfelMap::fuse(const cv::Mat& vertex_map_cam, const cv::Mat
                 s.confidence = sum;
                 s.last_seen_frame = frame_index;
                 ++stats.fused;
+                continue;
+            }
+            if (!options.create_surfels) {
+                ++stats.not_created;
                 continue;
             }
             if (surfels_.size() >= config_.max_surfels) {

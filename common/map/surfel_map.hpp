@@ -66,6 +66,7 @@ struct FusionStats {
     /// update per surfel and frame); neither fused nor created
     size_t covered = 0;
     size_t created = 0;               ///< new surfels
+    size_t not_created = 0;           ///< observations with no surfel, left alone (no creation)
     size_t removed = 0;               ///< surfels removed by clean() (unstable and old)
     size_t removed_free_space = 0;    ///< unstable surfels removed as free-space violations
     size_t weakened_free_space = 0;   ///< stable surfels that lost confidence for one
@@ -73,6 +74,18 @@ struct FusionStats {
     size_t rejected_by_capacity = 0;  ///< observations dropped because the map was full
     size_t total = 0;                 ///< surfels in the map afterwards
     size_t stable = 0;                ///< stable surfels in the map afterwards
+};
+
+/// How fuse() treats one frame.
+struct FuseOptions {
+    /// false: pixels with no surfel to fuse into are left alone (FusionStats::not_created): the
+    /// frame only confirms what the map has.
+    bool create_surfels = true;
+    /// The whole sensor image's size when the images are a crop of it (their intrinsics shifted
+    /// to match): an observation's weight depends on its distance from the principal point
+    /// against half of *this* image's diagonal, so a pixel weighs the same in a crop as in the
+    /// whole frame. Empty: the images are the whole sensor image.
+    cv::Size sensor_size;
 };
 
 class SurfelMap {
@@ -98,7 +111,8 @@ class SurfelMap {
     Result<FusionStats> fuse(const cv::Mat& vertex_map_cam, const cv::Mat& normal_map_cam,
                              const cv::Mat& rgb, const cv::Mat& mask, const cv::Mat& index_map,
                              const Eigen::Isometry3f& world_T_camera,
-                             const io::Intrinsics& intrinsics, int frame_index);
+                             const io::Intrinsics& intrinsics, int frame_index,
+                             const FuseOptions& options = {});
 
     /// The free-space pass of fuse() alone, with no fusion: the active surfels the frame sees
     /// through (SurfelMapConfig::remove_free_space) are weakened or removed, then clean(). For
@@ -109,7 +123,7 @@ class SurfelMap {
     Result<FusionStats> carve(const cv::Mat& vertex_map_cam, const cv::Mat& mask,
                               const Eigen::Isometry3f& world_T_camera,
                               const io::Intrinsics& intrinsics, int frame_index,
-                              bool keep_stable = false);
+                              bool keep_stable = false, const cv::Size& sensor_size = {});
 
     /// Removes unstable surfels not fused for more than config.unstable_max_unseen_frames
     /// (relative to frame_index); returns how many were removed. Keeps the order of the others.
@@ -161,7 +175,8 @@ class SurfelMap {
 
   private:
     /// The observation weight factors per column and row (weight_u_, weight_v_).
-    void prepare_weights(int width, int height, const io::Intrinsics& intrinsics);
+    void prepare_weights(int width, int height, const io::Intrinsics& intrinsics,
+                         const cv::Size& sensor_size);
     /// Fills zbuffer_index_ with, per pixel, the nearest active surfel projecting there (-1 if
     /// none).
     void project_active(const Eigen::Isometry3f& camera_T_world, const io::Intrinsics& k, int width,

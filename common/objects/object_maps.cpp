@@ -430,6 +430,7 @@ Status ObjectMaps::map(const slam::Frame& frame, const cv::Mat& rgb,
         ObjectReport& r = of->reports[k];
         const Eigen::Isometry3d object_T_camera = o.map.world_T_map().inverse() * world_T_camera;
         if (r.pixels > 0) o.last_seen_frame = frame_number;
+
         const uint64_t before = o.map.map().total_rejected_by_capacity();
         cv::Rect used;
         const slam::Frame part = slam::crop(frame, of->rois[k], &used);
@@ -441,6 +442,14 @@ Status ObjectMaps::map(const slam::Frame& frame, const cv::Mat& rgb,
                                  (of->object_ids(used) != static_cast<uint16_t>(o.id));
             auto fused =
                 o.map.fuse(part, rgb(used), mask, object_T_camera, map_time, false, prediction_);
+            if (!fused) return fused.status();
+        } else if (config_.fuse_silhouette && r.tracked && r.instance == 0 && r.pixels > 0 &&
+                   !used.empty()) {
+            // Missed by the detector, tracked on its silhouette: those pixels confirm the
+            // surfels they agree with; nothing new is made.
+            const cv::Mat mask = of->object_ids(used) != static_cast<uint16_t>(o.id);
+            auto fused = o.map.fuse(part, rgb(used), mask, object_T_camera, map_time, false,
+                                    prediction_, false);
             if (!fused) return fused.status();
         }
         if (r.visible && !used.empty() && (r.tracked || r.pixels == 0)) {

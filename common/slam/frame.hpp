@@ -55,6 +55,9 @@ struct Frame {
     std::vector<FrameLevel> levels;
     int64_t sensor_ns = 0;  ///< copied from the image
     uint64_t index = 0;     ///< copied from the image
+    /// Level-0 size of the whole sensor image, also in a crop(): what an observation's weight
+    /// (its distance from the principal point against half the image diagonal) refers to.
+    cv::Size sensor_size;
 };
 
 /// Builds a Frame from an RGB-D image. Needs `image.rgb` CV_8UC3 (R,G,B) and `image.depth`

@@ -38,7 +38,8 @@ Result<map::FusionStats> MapInstance::fuse(const Frame& frame, const cv::Mat& rg
                                            const cv::Mat& mask,
                                            const Eigen::Isometry3d& map_T_camera, int map_time,
                                            bool associate_by_prediction,
-                                           const map::PredictionConfig& prediction) {
+                                           const map::PredictionConfig& prediction,
+                                           bool create_surfels) {
     cv::Mat association;
     if (associate_by_prediction && map_.size() > 0) {
         map::PredictionConfig every_active = prediction;
@@ -48,7 +49,8 @@ Result<map::FusionStats> MapInstance::fuse(const Frame& frame, const cv::Mat& rg
     }
     const FrameLevel& level = frame.levels[0];
     return map_.fuse(level.vertex, level.normal, rgb, mask, association, map_T_camera.cast<float>(),
-                     level.intrinsics, map_time);
+                     level.intrinsics, map_time,
+                     map::FuseOptions{create_surfels, frame.sensor_size});
 }
 
 Result<map::FusionStats> MapInstance::carve(const Frame& frame, const cv::Mat& mask,
@@ -56,7 +58,7 @@ Result<map::FusionStats> MapInstance::carve(const Frame& frame, const cv::Mat& m
                                             bool keep_stable) {
     const FrameLevel& level = frame.levels[0];
     return map_.carve(level.vertex, mask, map_T_camera.cast<float>(), level.intrinsics, map_time,
-                      keep_stable);
+                      keep_stable, frame.sensor_size);
 }
 
 }  // namespace df::slam

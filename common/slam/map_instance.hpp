@@ -55,11 +55,13 @@ class MapInstance {
                          const map::PredictionConfig& config);
     /// Fuses the frame's level-0 vertices (pixels of `mask` left out) at map_T_camera; with
     /// `associate_by_prediction`, pixels are associated with the surfels a rendering of every
-    /// active surfel shows there.
+    /// active surfel shows there. `create_surfels` false: only existing surfels are updated.
+    /// A crop() of a frame weighs its observations as the whole frame would.
     Result<map::FusionStats> fuse(const Frame& frame, const cv::Mat& rgb, const cv::Mat& mask,
                                   const Eigen::Isometry3d& map_T_camera, int map_time,
                                   bool associate_by_prediction,
-                                  const map::PredictionConfig& prediction);
+                                  const map::PredictionConfig& prediction,
+                                  bool create_surfels = true);
 
     /// The free-space pass alone (map::SurfelMap::carve) with the camera at map_T_camera: the
     /// surfels the frame's level-0 vertices see through are weakened or removed.

@@ -64,6 +64,7 @@ Result<Frame> preprocess(const io::RgbdImage& image, const PreprocessConfig& con
     Frame frame;
     frame.sensor_ns = image.sensor_ns;
     frame.index = image.index;
+    frame.sensor_size = image.depth.size();
     frame.levels.resize(static_cast<size_t>(config.pyramid_levels));
 
     FrameLevel& base = frame.levels[0];
@@ -93,6 +94,7 @@ Frame crop(const Frame& frame, const cv::Rect& roi, cv::Rect* used) {
     Frame out;
     out.sensor_ns = frame.sensor_ns;
     out.index = frame.index;
+    out.sensor_size = frame.sensor_size;
     *used = cv::Rect();
     if (frame.levels.empty()) return out;
     const int align = 1 << (static_cast<int>(frame.levels.size()) - 1);

@@ -126,7 +126,7 @@ int cmd_object(const std::string& gt_file, const std::string& est_file,
 
 int cmd_recon(const std::string& gt_ply, const std::string& est_ply,
               const eval::ReconstructionConfig& config, const std::string& transform,
-              const Outputs& out) {
+              const std::optional<eval::RegistrationConfig>& registration, const Outputs& out) {
     Eigen::Isometry3d gt_T_est = Eigen::Isometry3d::Identity();
     if (!transform.empty()) {
         auto parsed = parse_transform(transform, "--transform");
@@ -150,8 +150,24 @@ int cmd_recon(const std::string& gt_ply, const std::string& est_ply,
     std::fputs(
         eval::format_reconstruction(*recon, "Reconstruction: " + est_ply + " vs " + gt_ply).c_str(),
         stdout);
-    return finish(out,
-                  {{"gt", gt_ply}, {"est", est_ply}, {"reconstruction", eval::to_json(*recon)}});
+    json result = {
+        {"gt", gt_ply}, {"est", est_ply}, {"reconstruction", eval::to_json(*recon)}};
+    if (registration) {
+        auto fit = eval::register_reconstruction(gt->positions, est->positions, gt_T_est,
+                                                 *registration);
+        if (!fit) return fail(fit.status().with_context(est_ply + " onto " + gt_ply));
+        auto registered = eval::score_reconstruction(
+            gt->positions, eval::transform_points(fit->gt_T_est, est->positions), config);
+        if (!registered) return fail(registered.status().with_context(est_ply));
+        std::fputs(eval::format_reconstruction(
+                       *registered, "After rigid registration onto the ground truth (" +
+                                        eval::format_registration(*fit) + ")")
+                       .c_str(),
+                   stdout);
+        result["registered"] = eval::to_json(*registered);
+        result["registered"]["registration"] = eval::to_json(*fit);
+    }
+    return finish(out, result);
 }
 
 int cmd_seg(const std::string& gt_sequence, const std::string& pred_dir,

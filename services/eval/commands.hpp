@@ -1,6 +1,7 @@
 #pragma once
 /// The subcommands of df_eval: each loads its inputs, calls the df_eval library, prints a table
 /// and writes the JSON / PNG asked for. They return the process exit code (0 ok, 1 failed).
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,9 +30,11 @@ int cmd_object(const std::string& gt, const std::string& est,
                const eval::AssociationConfig& association, const eval::RpeConfig& rpe,
                const ObjectOptions& object, const Outputs& out);
 /// `transform`: empty, or "tx ty tz qx qy qz qw" (gt_T_est) applied to the estimate first.
+/// `registration`: when set, the estimate is also registered onto the ground truth from there
+/// and scored again.
 int cmd_recon(const std::string& gt_ply, const std::string& est_ply,
               const eval::ReconstructionConfig& config, const std::string& transform,
-              const Outputs& out);
+              const std::optional<eval::RegistrationConfig>& registration, const Outputs& out);
 int cmd_seg(const std::string& gt_sequence, const std::string& pred_dir,
             const eval::SegmentationConfig& config, const Outputs& out);
 int cmd_timing(const std::vector<std::string>& logs, const Outputs& out);

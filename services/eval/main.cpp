@@ -119,6 +119,15 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     recon->add_option("--transform", transform,
                       "'tx ty tz qx qy qz qw': gt_T_est applied to the reconstruction first");
+    bool recon_register = false;
+    df::eval::RegistrationConfig registration_config;
+    recon->add_flag("--register", recon_register,
+                    "also register the reconstruction onto the ground truth (trimmed ICP from "
+                    "--transform) and score it again: its shape apart from its placement");
+    recon
+        ->add_option("--register-max-distance", registration_config.max_distance_m,
+                     "metres: registration pairs farther apart are left out")
+        ->capture_default_str();
     add_outputs(recon, &out, false);
 
     df::eval::SegmentationConfig seg_config;
@@ -182,7 +191,8 @@ int main(int argc, char** argv) {
     if (ate->parsed()) return cmd_ate(gt, est, association, out);
     if (rpe_cmd->parsed()) return cmd_rpe(gt, est, rpe, out);
     if (object->parsed()) return cmd_object(gt, est, association, rpe, object_options, out);
-    if (recon->parsed()) return cmd_recon(gt, est, recon_config, transform, out);
+    if (recon->parsed()) return cmd_recon(gt, est, recon_config, transform,
+                         recon_register ? std::optional(registration_config) : std::nullopt, out);
     if (seg->parsed()) return cmd_seg(gt, est, seg_config, out);
     if (timing->parsed()) return cmd_timing(logs, out);
     run_options.plots = !no_plots;

@@ -95,6 +95,10 @@ TEST(DfEvalRun, ScoresEverythingARunFolderHolds) {
     EXPECT_LT(doc["objects"]["car_1"]["ate"]["translation_m"]["max"].get<double>(), 1e-6);
     EXPECT_DOUBLE_EQ(doc["reconstruction"]["accuracy"].get<double>(), 1.0);
     EXPECT_DOUBLE_EQ(doc["reconstruction"]["completeness"].get<double>(), 1.0);
+    EXPECT_DOUBLE_EQ(doc["reconstruction"]["registered"]["accuracy"].get<double>(), 1.0);
+    EXPECT_LT(doc["reconstruction"]["registered"]["registration"]["correction_translation_m"]
+                  .get<double>(),
+              1e-6);
     EXPECT_DOUBLE_EQ(doc["segmentation"]["kinds"]["all"]["mean_iou"].get<double>(), 1.0);
     EXPECT_EQ(doc["segmentation"]["frames"], 5);
     EXPECT_EQ(doc["timing"]["slam"]["tracking"]["count"], 5);
@@ -117,6 +121,39 @@ TEST(DfEvalRun, AnObjectWithoutGroundTruthIsAnError) {
     ASSERT_EQ(doc["errors"].size(), 1u) << out;
     EXPECT_NE(doc["errors"][0].get<std::string>().find("objects/ghost.txt"), std::string::npos);
     EXPECT_TRUE(doc["objects"].contains("car_1"));  // the rest is still scored
+}
+
+TEST(DfEvalCli, ReconRegistersAMisplacedMapOntoItsModel) {
+    TempFolder dir;
+    // A floor and two walls, 2 cm apart; the map is the same surface 2 cm off along x and 1
+    // degree turned.
+    io::PointCloud model, map;
+    for (int i = 0; i <= 50; ++i) {
+        for (int j = 0; j <= 50; ++j) {
+            model.positions.emplace_back(0.02 * i, 0.02 * j, 0.0);
+            model.positions.emplace_back(0.02 * i, 0.0, 0.02 * j);
+            model.positions.emplace_back(0.0, 0.02 * i, 0.02 * j);
+        }
+    }
+    const Eigen::Isometry3d off = test::make_transform(M_PI / 180.0, Eigen::Vector3d(0, 0, 1),
+                                                       Eigen::Vector3d(0.02, 0, 0));
+    for (const auto& p : model.positions) map.positions.push_back(off * p);
+    ASSERT_TRUE(io::write_ply(dir / "model.ply", model));
+    ASSERT_TRUE(io::write_ply(dir / "map.ply", map));
+    std::string out;
+    ASSERT_EQ(run_command(std::string(DF_EVAL_BIN) + " recon " + (dir / "model.ply") +
+                              " " + (dir / "map.ply") +
+                              " --threshold 0.005 --register --json " +
+                              (dir / "recon.json"),
+                          &out),
+              0)
+        << out;
+    const json doc = test::read_json(dir / "recon.json");
+    EXPECT_LT(doc["reconstruction"]["accuracy"].get<double>(), 0.7) << out;
+    EXPECT_GT(doc["registered"]["accuracy"].get<double>(), 0.999) << out;
+    EXPECT_NEAR(doc["registered"]["registration"]["correction_rotation_deg"].get<double>(), 1.0,
+                0.01);
+    EXPECT_NE(out.find("After rigid registration"), std::string::npos) << out;
 }
 
 TEST(DfEvalCli, BadInputsNameTheFileAndLine) {

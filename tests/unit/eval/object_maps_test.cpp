@@ -207,6 +207,30 @@ TEST(ObjectMaps, APoseTwoCentimetresOffShowsInTheErrors) {
     EXPECT_LT(t.rotation_deg.max, 1e-4);
 }
 
+TEST(ObjectMaps, AModelPlacedByAWrongFirstPoseIsRightAfterRegistration) {
+    TempFolder seq, run;
+    ObjectMapsScene scene;
+    scene.offset_frame = 0;  // the first pose, which places the model, 2 cm off
+    auto r = score_scene(scene, seq, run);
+    ASSERT_TRUE(r) << r.status().message();
+    const ObjectMapScore& car = r->objects.at(0);
+    ASSERT_TRUE(car.model) << car.model_note;
+    EXPECT_LT(car.model->accuracy, 0.7);
+    ASSERT_TRUE(car.model_registered) << car.model_registration_note;
+    EXPECT_GT(car.model_registered->accuracy, 0.99);
+    EXPECT_GT(car.model_registered->completeness, 0.99);
+    EXPECT_NEAR(car.model_registration->correction_translation_m, 0.02, 0.002);
+    EXPECT_LT(car.model_registration->correction_rotation_deg, 0.2);
+    const nlohmann::json doc = to_json(*r);
+    EXPECT_GT(doc["objects"]["car_1"]["model_registered"]["accuracy"].get<double>(), 0.99);
+    EXPECT_NEAR(doc["objects"]["car_1"]["model_registered"]["registration"]
+                   ["correction_translation_m"]
+                       .get<double>(),
+                0.02, 0.002);
+    const std::string table = format_object_maps(*r, "Objects");
+    EXPECT_NE(table.find("car_1 model after rigid registration"), std::string::npos) << table;
+}
+
 TEST(ObjectMaps, AModelLeftInItsOwnFrameScoresLow) {
     TempFolder seq, run;
     ObjectMapsScene scene;

@@ -80,5 +80,77 @@ TEST(Reconstruction, TransformAppliedFirst) {
     EXPECT_DOUBLE_EQ(aligned->accuracy, 1.0);
 }
 
+/// Three faces of a 40 cm cube (x = 0, y = 0, z = 0 planes, 0..0.4 m) sampled every 5 mm: a
+/// shape that pins all six degrees of freedom.
+std::vector<Eigen::Vector3d> cube_corner() {
+    std::vector<Eigen::Vector3d> points;
+    for (int i = 0; i <= 80; ++i) {
+        for (int j = 0; j <= 80; ++j) {
+            const double a = 0.005 * i, b = 0.005 * j;
+            points.emplace_back(0.0, a, b);
+            points.emplace_back(a, 0.0, b);
+            points.emplace_back(a, b, 0.0);
+        }
+    }
+    return points;
+}
+
+TEST(Registration, RecoversTheMisplacementOfAPartialModelWithOutliers) {
+    const auto gt = cube_corner();
+    // The reconstruction: every other point of two of the faces (a partial view), plus 200
+    // points of a floor 10 cm below that the ground truth does not have, the whole misplaced by
+    // 1.5 cm and 2 degrees (as a wrong first object pose places a model).
+    std::vector<Eigen::Vector3d> model;
+    for (size_t i = 0; i < gt.size(); i += 2) {
+        if (gt[i].z() != 0.0 || gt[i].x() == 0.0 || gt[i].y() == 0.0) model.push_back(gt[i]);
+    }
+    for (int i = 0; i < 200; ++i) model.emplace_back(0.002 * i, 0.2, -0.10);
+    const Eigen::Isometry3d misplaced =
+        test::make_transform(2.0 * M_PI / 180.0, Eigen::Vector3d(1, 2, 3),
+                             Eigen::Vector3d(0.012, -0.010, 0.008));
+    const auto est = transform_points(misplaced, model);
+
+    ReconstructionConfig one_cm;
+    one_cm.threshold_m = 0.01;
+    auto before = score_reconstruction(gt, est, one_cm);
+    ASSERT_TRUE(before);
+    EXPECT_LT(before->accuracy, 0.7);
+
+    auto fit = register_reconstruction(gt, est, Eigen::Isometry3d::Identity());
+    ASSERT_TRUE(fit) << fit.status().to_string();
+    const Eigen::Isometry3d error = fit->gt_T_est * misplaced;  // identity when recovered
+    EXPECT_LT(error.translation().norm(), 1e-3);
+    EXPECT_LT(Eigen::AngleAxisd(error.linear()).angle(), 0.05 * M_PI / 180.0);
+    EXPECT_NEAR(fit->correction_rotation_deg, 2.0, 0.05);
+    // How far the fit moved the model's centre (that of its bounding box).
+    Eigen::Vector3d lo = est.front(), hi = est.front();
+    for (const auto& p : est) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+    }
+    const Eigen::Vector3d centre = 0.5 * (lo + hi);
+    EXPECT_NEAR(fit->correction_translation_m, (misplaced.inverse() * centre - centre).norm(),
+                1e-3);
+    EXPECT_LT(fit->rmse_m, 0.002);
+
+    auto after = score_reconstruction(gt, transform_points(fit->gt_T_est, est), one_cm);
+    ASSERT_TRUE(after);
+    // All but the floor (200 of the points) lie on the cube again.
+    EXPECT_NEAR(after->accuracy, 1.0 - 200.0 / static_cast<double>(est.size()), 1e-9);
+}
+
+TEST(Registration, AModelNowhereNearTheGroundTruthIsAnErrorNotAFit) {
+    const auto gt = cube_corner();
+    const auto far = shifted(gt, {1.0, 0, 0});
+    auto fit = register_reconstruction(gt, far, Eigen::Isometry3d::Identity());
+    ASSERT_FALSE(fit);
+    EXPECT_NE(fit.status().message().find("within"), std::string::npos)
+        << fit.status().to_string();
+    EXPECT_FALSE(register_reconstruction({}, gt, Eigen::Isometry3d::Identity()));
+    RegistrationConfig bad;
+    bad.max_distance_m = 0;
+    EXPECT_FALSE(register_reconstruction(gt, gt, Eigen::Isometry3d::Identity(), bad));
+}
+
 }  // namespace
 }  // namespace df::eval

@@ -153,6 +153,37 @@ TEST(SurfelMap, ObservationOffTheSurfaceCreatesNewSurfels) {
     EXPECT_EQ(off->total, 2 * kPixels);
 }
 
+TEST(SurfelMap, WithoutCreationAFrameOnlyConfirmsTheSurfelsThere) {
+    SurfelMap map;
+    cv::Mat left_half(kHeight, kWidth, CV_8UC1, cv::Scalar(0));
+    left_half.colRange(kWidth / 2, kWidth).setTo(255);
+    ASSERT_TRUE(fuse(map, plane_view(1.5f), 0, left_half).is_ok());
+    ASSERT_EQ(map.size(), kPixels / 2);
+    const float before = map.surfels().front().confidence;
+    // The whole plane, and a second layer 10 cm in front: neither may add a surfel.
+    const View view = plane_view(1.5f);
+    const auto stats = map.fuse(view.vertex, view.normal, view.rgb, cv::Mat(), cv::Mat(),
+                                Eigen::Isometry3f::Identity(), intrinsics_for(kWidth, kHeight), 1,
+                                FuseOptions{false, {}});
+    ASSERT_TRUE(stats.is_ok()) << stats.status().to_string();
+    EXPECT_EQ(stats->created, 0u);
+    EXPECT_EQ(stats->fused, kPixels / 2);
+    // The column next to the mapped half finds its neighbours' surfels in the association
+    // window (each already updated by its own pixel: covered); the rest have none.
+    EXPECT_EQ(stats->covered, static_cast<size_t>(kHeight));
+    EXPECT_EQ(stats->not_created, kPixels / 2 - kHeight);
+    EXPECT_EQ(map.size(), kPixels / 2);
+    for (const Surfel& s : map.surfels()) EXPECT_LT(s.position.x(), 0.f);
+    EXPECT_GT(map.surfels().front().confidence, before);
+    const View front = plane_view(1.4f);
+    const auto off = map.fuse(front.vertex, front.normal, front.rgb, cv::Mat(), cv::Mat(),
+                              Eigen::Isometry3f::Identity(), intrinsics_for(kWidth, kHeight), 2,
+                              FuseOptions{false, {}});
+    ASSERT_TRUE(off.is_ok());
+    EXPECT_EQ(off->created, 0u);
+    EXPECT_EQ(map.size(), kPixels / 2);
+}
+
 TEST(SurfelMap, NormalAngleGate) {
     const auto tilted = [](float angle) {
         return Eigen::Vector3f(std::sin(angle), 0.f, -std::cos(angle));

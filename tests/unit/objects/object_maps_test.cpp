@@ -116,7 +116,10 @@ TEST(ObjectMaps, TheCarGetsOneMapThatFollowsIt) {
     alignment.object_frame = true;
     auto errors = eval::compute_object_errors(r.car_gt, car.trajectory, alignment);
     ASSERT_TRUE(errors.is_ok()) << errors.status().message();
-    EXPECT_LT(errors->ate.translation_m.rmse, 0.04);
+    // Measured 2.5 cm while crops weighed their observations by the crop's own size (which made
+    // most of an off-centre object's weights near zero), 5.1 cm since they weigh as in the whole
+    // frame (docs/objects.md, "Observation weights in crops"); a lost or jumping map is far off.
+    EXPECT_LT(errors->ate.translation_m.rmse, 0.06);
     EXPECT_LT(errors->rotation_deg.rmse, 4.0);
     std::printf(
         "room4 %d frames: car tracked %llu frames, trajectory %.2f cm / %.2f deg RMSE, "
@@ -160,6 +163,34 @@ TEST(ObjectMaps, AMissedDetectionDoesNotLoseTheObject) {
     }
     EXPECT_EQ(matched, 0) << "the detector reported nothing";
     EXPECT_GE(tracked, 8) << "tracked on its rendering's pixels";
+}
+
+TEST(ObjectMaps, AMapTrackedOnItsSilhouetteConfirmsItsModelWithoutGrowing) {
+    // The detector reports the car only on frames 0-9 (the map is made from those); from then
+    // on the map is tracked on its silhouette. Those frames confirm the surfels they agree with
+    // (their confidence grows, so more of the model becomes stable) and create none (it cannot
+    // grow into the floor).
+    const auto missed = [](int i) { return i >= 10; };
+    SystemConfig off;
+    off.objects.fuse_silhouette = false;
+    const RunResult without = run(30, off, {}, missed);
+    const RunResult with = run(30, SystemConfig{}, {}, missed);
+    const auto car_without = of_class(without.system->object_maps(), kCarClass);
+    const auto car_with = of_class(with.system->object_maps(), kCarClass);
+    ASSERT_EQ(car_without.size(), 1u);
+    ASSERT_EQ(car_with.size(), 1u);
+    const map::SurfelMap& a = car_without[0]->map.map();
+    const map::SurfelMap& b = car_with[0]->map.map();
+    const auto confidence = [](const map::SurfelMap& m) {
+        double sum = 0;
+        for (const map::Surfel& s : m.surfels()) sum += s.confidence;
+        return sum;
+    };
+    std::printf("car after 30 frames, detected on 10: %zu surfels, confidence %.1f without "
+                "silhouette fusion; %zu, %.1f with\n",
+                a.size(), confidence(a), b.size(), confidence(b));
+    EXPECT_GT(confidence(b), 2 * confidence(a)) << "20 more frames of evidence";
+    EXPECT_LE(b.size(), a.size() + a.size() / 10) << "confirming creates no surfels";
 }
 
 TEST(ObjectMaps, ACheckpointKeepsTheObjectMapsAndTheRestoredRunTracksThemOn) {
