@@ -57,7 +57,9 @@ print(f"map: {s['surfels']} surfels ({s['stable_surfels']} stable), {s['map_byte
 PY
 # One line per object map: class, frames tracked, surfels; on generated data, the error of its
 # trajectory against the ground-truth object of its class (the worlds aligned by the camera ATE,
-# the object's own frame by its first pose: df_eval object --world --body-align).
+# the object's own frame by its first pose: df_eval object --world --body-align), and its model
+# against the true object's at 1 cm, placed by that first pose and after registration
+# (df_eval recon --transform X^-1 --register).
 if [ -f "$slam_out/objects.json" ]; then
   /usr/bin/python3 - "$slam_out" "$DF_DATA" "$DF_BUILD/bin/df_eval" <<'PY' || true
 import json, os, subprocess, sys
@@ -72,6 +74,24 @@ world = None
 if os.path.exists(os.path.join(out, "ate.json")):
     a = json.load(open(os.path.join(out, "ate.json")))["ate"]["alignment_gt_T_est"]
     world = " ".join(str(v) for v in a["translation_m"] + a["quaternion_xyzw"])
+def inverse_tum(m):
+    """'tx ty tz qx qy qz qw' of the inverse of a rigid 4x4 matrix (rows)."""
+    r = [[m[j][i] for j in range(3)] for i in range(3)]  # R^T
+    t = [-sum(r[i][k] * m[k][3] for k in range(3)) for i in range(3)]
+    tr = r[0][0] + r[1][1] + r[2][2]
+    if tr > 0:
+        s = 2 * (tr + 1) ** 0.5
+        q = ((r[2][1] - r[1][2]) / s, (r[0][2] - r[2][0]) / s, (r[1][0] - r[0][1]) / s, s / 4)
+    elif r[0][0] > r[1][1] and r[0][0] > r[2][2]:
+        s = 2 * (1 + r[0][0] - r[1][1] - r[2][2]) ** 0.5
+        q = (s / 4, (r[0][1] + r[1][0]) / s, (r[0][2] + r[2][0]) / s, (r[2][1] - r[1][2]) / s)
+    elif r[1][1] > r[2][2]:
+        s = 2 * (1 + r[1][1] - r[0][0] - r[2][2]) ** 0.5
+        q = ((r[0][1] + r[1][0]) / s, s / 4, (r[1][2] + r[2][1]) / s, (r[0][2] - r[2][0]) / s)
+    else:
+        s = 2 * (1 + r[2][2] - r[0][0] - r[1][1]) ** 0.5
+        q = ((r[0][2] + r[2][0]) / s, (r[1][2] + r[2][1]) / s, s / 4, (r[1][0] - r[0][1]) / s)
+    return " ".join(repr(v) for v in t + list(q))
 print(f"objects: {len(objects)} object map(s) (objects.json, objects/<id>.txt and .ply)")
 for o in objects:
     line = (f"  object {o['id']} {o['class_name']}: tracked {o['frames_tracked']} frames "
@@ -92,6 +112,21 @@ for o in objects:
             t = e["ate"]["translation_m"]["rmse"] * 100
             rot = e.get("rotation_deg", {}).get("rmse", float("nan"))
             line += f"; vs {same[0]['name']}: {t:.2f} cm, {rot:.2f} deg RMSE"
+            model = same[0].get("model")
+            x = e.get("alignment_est_object_T_gt_object", {}).get("matrix")
+            if model and x and o.get("model") and os.path.exists(os.path.join(out, o["model"])):
+                # The model in the true object's frame (X^-1), then registered onto it.
+                j = os.path.join(out, f"eval_model_{o['id']}.json")
+                r = subprocess.run([df_eval, "recon", os.path.join(data, model),
+                                    os.path.join(out, o["model"]), "--threshold", "0.01",
+                                    "--transform", inverse_tum(x), "--register", "--json", j],
+                                   capture_output=True)
+                if r.returncode == 0:
+                    m = json.load(open(j))
+                    a, g = m["reconstruction"], m["registered"]
+                    line += (f"; model @1 cm accuracy/completeness {a['accuracy']:.2f}/"
+                             f"{a['completeness']:.2f}, registered {g['accuracy']:.2f}/"
+                             f"{g['completeness']:.2f}")
     print(line)
 PY
 fi

@@ -371,6 +371,13 @@ Status ObjectMaps::create(const slam::Frame& frame, const cv::Mat& rgb,
             break;
         }
     }
+    Eigen::Isometry3d relocalised_pose = Eigen::Isometry3d::Identity();
+    bool relocalised = false;
+    if (object == nullptr && config_.relocalise_any_class) {
+        DF_RETURN_IF_ERROR(relocalise(frame, pixels, centroid, world_T_camera, map_time, *of,
+                                      &object, &relocalised_pose));
+        relocalised = object != nullptr;
+    }
     if (object == nullptr && live_count() >= config_.max_objects) {
         ++counters_.refused_by_cap;
         return Status::ok();
@@ -382,18 +389,35 @@ Status ObjectMaps::create(const slam::Frame& frame, const cv::Mat& rgb,
     r.visible = true;
     if (object != nullptr) {
         // Moved while out of view: shift it so its centroid sits on what is seen now (the
-        // next frame's tracking refines it).
+        // next frame's tracking refines it), or put it where relocalisation tracked it.
         Eigen::Isometry3d pose = object->map.world_T_map();
         pose.pretranslate(centroid - centroid_in_world(*object));
+        if (relocalised) pose = relocalised_pose;
         object->map.set_world_T_map(pose);
         object->state = ObjectState::kActive;
         object->body_motion = Eigen::Isometry3d::Identity();
+        object->frames_lost = 0;
         object->last_seen_frame = frame_number;
         ++counters_.revived;
         r.id = object->id;
+        r.class_id = object->class_id;
         r.world_T_object = pose;
         r.surfels = object->map.map().size();
-        of->reports.push_back(r);
+        if (relocalised) {
+            object->trajectory.push_back(io::stamped_pose(frame.sensor_ns, pose));
+            ++object->frames_tracked;
+            of->object_ids.setTo(object->id, pixels);
+            r.pixels = cv::countNonZero(pixels);
+            r.tracked = true;
+        }
+        // A live map (relocalised) already has this frame's report: it is replaced.
+        const auto same = std::find_if(of->reports.begin(), of->reports.end(),
+                                       [&](const ObjectReport& x) { return x.id == object->id; });
+        if (same != of->reports.end()) {
+            *same = r;
+        } else {
+            of->reports.push_back(r);
+        }
         return Status::ok();
     }
     ObjectMap o(next_id_++, map_config_);
@@ -418,6 +442,58 @@ Status ObjectMaps::create(const slam::Frame& frame, const cv::Mat& rgb,
     of->reports.push_back(r);
     objects_.push_back(std::move(o));
     ++counters_.created;
+    return Status::ok();
+}
+
+Status ObjectMaps::relocalise(const slam::Frame& frame, const cv::Mat& pixels,
+                              const Eigen::Vector3d& centroid,
+                              const Eigen::Isometry3d& world_T_camera, int map_time,
+                              const ObjectFrame& of, ObjectMap** found,
+                              Eigen::Isometry3d* world_T_object) {
+    *found = nullptr;
+    for (size_t i = 0; i < objects_.size(); ++i) {
+        ObjectMap& o = objects_[i];
+        if (o.map.map().size() == 0) continue;
+        bool lost_its_object = o.state == ObjectState::kRetired;
+        if (!lost_its_object) {
+            const auto k = std::find(of.live.begin(), of.live.end(), i);
+            lost_its_object =
+                k != of.live.end() && of.reports[static_cast<size_t>(k - of.live.begin())].pixels == 0;
+        }
+        if (!lost_its_object) continue;
+        // From where it is now (moved on by its last motion while unseen) and from where it
+        // was last tracked, whichever is near.
+        std::vector<Eigen::Isometry3d> starts{o.map.world_T_map()};
+        if (!o.trajectory.empty()) starts.push_back(io::isometry_of(o.trajectory.back()));
+        const Eigen::Vector3d local = o.map.world_T_map().inverse() * centroid_in_world(o);
+        for (const Eigen::Isometry3d& start : starts) {
+            const Eigen::Vector3d c = start * local;
+            if ((c - centroid).norm() > config_.relocalise_max_distance_m) continue;
+            Eigen::Isometry3d moved = start;
+            moved.pretranslate(centroid - c);
+            cv::Mat ids = of.object_ids.clone();
+            ids.setTo(o.id, pixels);
+            cv::Rect roi;
+            auto result = track_from(frame, o, moved, world_T_camera, cv::boundingRect(pixels),
+                                     ids, &roi, map_time);
+            if (!result) return result.status();
+            if (result->state != slam::TrackingState::kOk) {
+                // The centroids of the whole model and of its visible part differ, so the
+                // shifted guess is rough: once more from where Gauss-Newton went; it must
+                // then pass every check (how far it moves included).
+                const Eigen::Isometry3d again =
+                    slam::orthonormalized(world_T_camera * result->estimate.inverse());
+                result = track_from(frame, o, again, world_T_camera, cv::boundingRect(pixels),
+                                    ids, &roi, map_time);
+                if (!result) return result.status();
+            }
+            if (result->state != slam::TrackingState::kOk) continue;
+            *world_T_object =
+                slam::orthonormalized(world_T_camera * result->world_T_camera.inverse());
+            *found = &o;
+            return Status::ok();
+        }
+    }
     return Status::ok();
 }
 

@@ -183,6 +183,14 @@ class ObjectMaps {
                                             const Eigen::Isometry3d& world_T_camera,
                                             const cv::Rect& instance_box, const cv::Mat& object_ids,
                                             cv::Rect* roi, int map_time);
+    /// A map that lost its object (retired, or live and claiming nothing this frame) within
+    /// relocalise_max_distance_m of `centroid` that, moved so the centroids agree, tracks onto
+    /// `pixels` (CV_8UC1 of level 0): *found is it and *world_T_object its tracked pose; else
+    /// *found is nullptr.
+    Status relocalise(const slam::Frame& frame, const cv::Mat& pixels,
+                      const Eigen::Vector3d& centroid, const Eigen::Isometry3d& world_T_camera,
+                      int map_time, const ObjectFrame& object_frame, ObjectMap** found,
+                      Eigen::Isometry3d* world_T_object);
     /// The map's centroid in the world (mean surfel position).
     Eigen::Vector3d centroid_in_world(const ObjectMap& object) const;
     /// Creates (or revives) a map from instance `id`'s pixels of this frame.

@@ -20,6 +20,7 @@ namespace df::slam {
 namespace {
 
 constexpr int kCarClass = 2;
+constexpr int kTruckClass = 7;
 
 struct RunResult {
     std::vector<io::StampedPose> camera_gt, car_gt;
@@ -31,8 +32,10 @@ struct RunResult {
 /// not report the car; on those `hidden` says the car is gone from the view as well (no depth).
 /// With `checkpoint_at` >= 0 the system is written to a checkpoint file before that frame, read
 /// back and restored, and the run goes on with the restored system (a restarted service).
+/// With `renamed`, the detector reports the car as a truck on the frames it says.
 RunResult run(int frames, const SystemConfig& config, const std::function<bool(int)>& hidden = {},
-              const std::function<bool(int)>& missed = {}, int checkpoint_at = -1) {
+              const std::function<bool(int)>& missed = {}, int checkpoint_at = -1,
+              const std::function<bool(int)>& renamed = {}) {
     const sim::Sequence s = test::make_noisy_sequence("room4", frames);
     auto created = SlamSystem::create(config);
     EXPECT_TRUE(created.is_ok()) << created.status().message();
@@ -79,6 +82,13 @@ RunResult run(int frames, const SystemConfig& config, const std::function<bool(i
                 std::remove_if(boxes.begin(), boxes.end(),
                                [](const detect::Detection& d) { return d.class_id == kCarClass; }),
                 boxes.end());
+        }
+        if (renamed && renamed(i)) {
+            for (detect::Detection& d : boxes) {
+                if (d.class_id != kCarClass) continue;
+                d.class_id = kTruckClass;
+                d.class_name = "truck";
+            }
         }
         auto segments = seg::fuse_segments(*geometric, boxes, kind_of, segmenter.instances);
         EXPECT_TRUE(segments.is_ok()) << segments.status().message();
@@ -145,6 +155,33 @@ TEST(ObjectMaps, AMapWhoseObjectIsNoLongerSeenIsRetiredAndRevivedWhenSeenAgain) 
     for (size_t i = 35; i < r.reports.size(); ++i)
         for (const objects::ObjectReport& o : r.reports[i]) tracked_after |= o.tracked;
     EXPECT_TRUE(tracked_after) << "tracked again after the revival";
+}
+
+TEST(ObjectMaps, AnObjectSeenAgainUnderAnotherClassIsRelocalisedNotMappedTwice) {
+    SystemConfig config;
+    config.objects.retire_after_frames = 5;
+    // The car is gone from frames 15 to 29 (its map retires); from frame 30 it is back, 0.4 m
+    // on, and the detector calls it a truck: no map of that class to revive, but the car's
+    // map tracks onto the truck's pixels, so it takes them.
+    const RunResult r = run(
+        45, config, [](int i) { return i >= 15 && i < 30; }, {}, -1,
+        [](int i) { return i >= 30; });
+    const auto cars = of_class(r.system->object_maps(), kCarClass);
+    const auto trucks = of_class(r.system->object_maps(), kTruckClass);
+    ASSERT_EQ(cars.size(), 1u);
+    EXPECT_EQ(trucks.size(), 0u) << "relocalised, not mapped again as a truck";
+    EXPECT_GE(r.system->object_maps().counters().revived, 1u);
+    int tracked_after = 0;
+    for (size_t i = 33; i < r.reports.size(); ++i)
+        for (const objects::ObjectReport& o : r.reports[i])
+            tracked_after += (o.id == cars[0]->id && o.tracked) ? 1 : 0;
+    EXPECT_GE(tracked_after, 8) << "of the 12 frames after it came back";
+    // Without relocalisation the truck gets a map of its own.
+    config.objects.relocalise_any_class = false;
+    const RunResult without = run(
+        45, config, [](int i) { return i >= 15 && i < 30; }, {}, -1,
+        [](int i) { return i >= 30; });
+    EXPECT_EQ(of_class(without.system->object_maps(), kTruckClass).size(), 1u);
 }
 
 TEST(ObjectMaps, AMissedDetectionDoesNotLoseTheObject) {
