@@ -137,20 +137,14 @@ void score_model(const fs::path& seq, const fs::path& run, const ObjectMapsConfi
         return;
     }
     s->model = std::move(*recon);
-    auto registration = register_reconstruction(gt->positions, est->positions, gt_T_est_object,
-                                                config.model_registration);
-    if (!registration) {
-        s->model_registration_note = registration.status().message();
-        return;
-    }
-    auto registered = score_reconstruction(
-        gt->positions, transform_points(registration->gt_T_est, est->positions), config.model);
+    auto registered = score_registered(gt->positions, est->positions, gt_T_est_object,
+                                       config.model, config.model_registration);
     if (!registered) {
         s->model_registration_note = registered.status().message();
         return;
     }
-    s->model_registration = *registration;
-    s->model_registered = std::move(*registered);
+    s->model_registration = registered->registration;
+    s->model_registered = registered->score;
 }
 
 }  // namespace

@@ -1,9 +1,9 @@
 #include "eval/reconstruction.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
-#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <nanoflann.hpp>
 
@@ -202,6 +202,18 @@ Result<RegistrationResult> register_reconstruction(const std::vector<Eigen::Vect
     r.correction_rotation_deg =
         Eigen::AngleAxisd(correction.linear()).angle() * 180.0 / 3.14159265358979323846;
     return r;
+}
+
+Result<RegisteredReconstruction> score_registered(const std::vector<Eigen::Vector3d>& gt,
+                                                  const std::vector<Eigen::Vector3d>& est,
+                                                  const Eigen::Isometry3d& initial_gt_T_est,
+                                                  const ReconstructionConfig& score,
+                                                  const RegistrationConfig& registration) {
+    auto fit = register_reconstruction(gt, est, initial_gt_T_est, registration);
+    if (!fit) return fit.status();
+    auto scored = score_reconstruction(gt, transform_points(fit->gt_T_est, est), score);
+    if (!scored) return scored.status();
+    return RegisteredReconstruction{*fit, *scored};
 }
 
 std::vector<Eigen::Vector3d> transform_points(const Eigen::Isometry3d& gt_T_est,

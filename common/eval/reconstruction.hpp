@@ -73,6 +73,18 @@ Result<RegistrationResult> register_reconstruction(const std::vector<Eigen::Vect
                                                    const Eigen::Isometry3d& initial_gt_T_est,
                                                    const RegistrationConfig& config = {});
 
+/// A reconstruction registered onto its ground truth from `initial_gt_T_est`, and its score there.
+struct RegisteredReconstruction {
+    RegistrationResult registration;
+    ReconstructionResult score;
+};
+/// register_reconstruction() then score_reconstruction() at the fitted pose; their errors.
+Result<RegisteredReconstruction> score_registered(const std::vector<Eigen::Vector3d>& gt,
+                                                  const std::vector<Eigen::Vector3d>& est,
+                                                  const Eigen::Isometry3d& initial_gt_T_est,
+                                                  const ReconstructionConfig& score = {},
+                                                  const RegistrationConfig& registration = {});
+
 /// Applies gt_T_est to every point.
 std::vector<Eigen::Vector3d> transform_points(const Eigen::Isometry3d& gt_T_est,
                                               const std::vector<Eigen::Vector3d>& points);

@@ -451,6 +451,7 @@ Status ObjectMaps::relocalise(const slam::Frame& frame, const cv::Mat& pixels,
                               const ObjectFrame& of, ObjectMap** found,
                               Eigen::Isometry3d* world_T_object) {
     *found = nullptr;
+    const cv::Rect box = cv::boundingRect(pixels);
     for (size_t i = 0; i < objects_.size(); ++i) {
         ObjectMap& o = objects_[i];
         if (o.map.map().size() == 0) continue;
@@ -474,8 +475,8 @@ Status ObjectMaps::relocalise(const slam::Frame& frame, const cv::Mat& pixels,
             cv::Mat ids = of.object_ids.clone();
             ids.setTo(o.id, pixels);
             cv::Rect roi;
-            auto result = track_from(frame, o, moved, world_T_camera, cv::boundingRect(pixels),
-                                     ids, &roi, map_time);
+            auto result = track_from(frame, o, moved, world_T_camera, box, ids, &roi,
+                                     map_time);
             if (!result) return result.status();
             if (result->state != slam::TrackingState::kOk) {
                 // The centroids of the whole model and of its visible part differ, so the
@@ -483,8 +484,7 @@ Status ObjectMaps::relocalise(const slam::Frame& frame, const cv::Mat& pixels,
                 // then pass every check (how far it moves included).
                 const Eigen::Isometry3d again =
                     slam::orthonormalized(world_T_camera * result->estimate.inverse());
-                result = track_from(frame, o, again, world_T_camera, cv::boundingRect(pixels),
-                                    ids, &roi, map_time);
+                result = track_from(frame, o, again, world_T_camera, box, ids, &roi, map_time);
                 if (!result) return result.status();
             }
             if (result->state != slam::TrackingState::kOk) continue;
@@ -506,7 +506,6 @@ Status ObjectMaps::map(const slam::Frame& frame, const cv::Mat& rgb,
         ObjectReport& r = of->reports[k];
         const Eigen::Isometry3d object_T_camera = o.map.world_T_map().inverse() * world_T_camera;
         if (r.pixels > 0) o.last_seen_frame = frame_number;
-
         const uint64_t before = o.map.map().total_rejected_by_capacity();
         cv::Rect used;
         const slam::Frame part = slam::crop(frame, of->rois[k], &used);

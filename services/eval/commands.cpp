@@ -153,19 +153,17 @@ int cmd_recon(const std::string& gt_ply, const std::string& est_ply,
     json result = {
         {"gt", gt_ply}, {"est", est_ply}, {"reconstruction", eval::to_json(*recon)}};
     if (registration) {
-        auto fit = eval::register_reconstruction(gt->positions, est->positions, gt_T_est,
+        auto registered = eval::score_registered(gt->positions, est->positions, gt_T_est, config,
                                                  *registration);
-        if (!fit) return fail(fit.status().with_context(est_ply + " onto " + gt_ply));
-        auto registered = eval::score_reconstruction(
-            gt->positions, eval::transform_points(fit->gt_T_est, est->positions), config);
-        if (!registered) return fail(registered.status().with_context(est_ply));
+        if (!registered) return fail(registered.status().with_context(est_ply + " onto " + gt_ply));
         std::fputs(eval::format_reconstruction(
-                       *registered, "After rigid registration onto the ground truth (" +
-                                        eval::format_registration(*fit) + ")")
+                       registered->score, "After rigid registration onto the ground truth (" +
+                                              eval::format_registration(registered->registration) +
+                                              ")")
                        .c_str(),
                    stdout);
-        result["registered"] = eval::to_json(*registered);
-        result["registered"]["registration"] = eval::to_json(*fit);
+        result["registered"] = eval::to_json(registered->score);
+        result["registered"]["registration"] = eval::to_json(registered->registration);
     }
     return finish(out, result);
 }

@@ -230,22 +230,21 @@ void score_map(const fs::path& seq, const fs::path& run, const RunOptions& optio
     // The ATE alignment fits camera positions only: over a short or straight path its rotation
     // is loosely held (0.6 degrees, 3 cm at 3 m, on 60 frames of static_xyz whose ATE is
     // 0.06 cm), which the map's figures would charge to the map. Also scored after registration.
-    auto fit = eval::register_reconstruction(gt->positions, est->positions, T, {});
-    if (!fit) {
-        report->doc["reconstruction"]["registered_skipped"] = fit.status().message();
+    auto registered =
+        eval::score_registered(gt->positions, est->positions, T, options.reconstruction);
+    if (!registered) {
+        report->doc["reconstruction"]["registered_skipped"] = registered.status().message();
         return;
     }
-    auto registered = eval::score_reconstruction(
-        gt->positions, eval::transform_points(fit->gt_T_est, est->positions),
-        options.reconstruction);
-    if (!registered) return report->fail("reconstruction", registered.status());
-    std::fputs(eval::format_reconstruction(*registered, "Reconstruction after rigid registration "
-                                                        "onto the model (" +
-                                                            eval::format_registration(*fit) + ")")
+    std::fputs(eval::format_reconstruction(
+                   registered->score,
+                   "Reconstruction after rigid registration onto the model (" +
+                       eval::format_registration(registered->registration) + ")")
                    .c_str(),
                stdout);
-    report->doc["reconstruction"]["registered"] = eval::to_json(*registered);
-    report->doc["reconstruction"]["registered"]["registration"] = eval::to_json(*fit);
+    report->doc["reconstruction"]["registered"] = eval::to_json(registered->score);
+    report->doc["reconstruction"]["registered"]["registration"] =
+        eval::to_json(registered->registration);
 }
 
 void score_masks(const fs::path& seq, const fs::path& run, const RunOptions& options,
