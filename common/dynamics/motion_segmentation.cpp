@@ -80,6 +80,30 @@ bool still(int size, int seen, int moved, const MotionSegmentationConfig& c) {
            static_cast<float>(moved) <= c.history_max_moved * static_cast<float>(seen);
 }
 
+/// max(min_photometric, photometric_spread_factor x the median intensity residual of the pixels
+/// not left out), the median from a histogram of whole intensity levels.
+float photometric_threshold(const MotionInput& in, const MotionSegmentationConfig& c) {
+    if (c.photometric_spread_factor <= 0.f) return c.min_photometric;
+    std::vector<int> bins(257, 0);
+    int n = 0;
+    for (int y = 0; y < in.photometric.rows; ++y) {
+        const float* p = in.photometric.ptr<float>(y);
+        const uint8_t* ex = in.excluded.empty() ? nullptr : in.excluded.ptr<uint8_t>(y);
+        for (int x = 0; x < in.photometric.cols; ++x) {
+            if (!std::isfinite(p[x]) || (ex && ex[x])) continue;
+            ++bins[static_cast<size_t>(std::clamp(std::fabs(p[x]), 0.f, 256.f))];
+            ++n;
+        }
+    }
+    if (n == 0) return c.min_photometric;
+    int below = 0;
+    size_t median = 0;
+    while (median < bins.size() && 2 * (below + bins[median]) < n) below += bins[median++];
+    // The median level's centre: residuals in [k, k + 1) count as k + 0.5.
+    const float spread = c.photometric_spread_factor * (static_cast<float>(median) + 0.5f);
+    return std::max(c.min_photometric, spread);
+}
+
 }  // namespace
 
 std::string validate(const MotionSegmentationConfig& c) { return params::check(c); }
@@ -110,6 +134,7 @@ Result<MotionResult> segment_motion(const MotionInput& in, const MotionSegmentat
     cv::Mat dynamic = cv::Mat::zeros(rows, cols, CV_8UC1);
     const cv::Mat* photo =
         (c.min_photometric > 0.f && !in.photometric.empty()) ? &in.photometric : nullptr;
+    if (photo != nullptr) out.photometric_threshold = photometric_threshold(in, c);
     for (int y = 0; y < rows; ++y) {
         const float* r = in.residual_m.ptr<float>(y);
         const float* z = in.depth_m.ptr<float>(y);
@@ -126,7 +151,7 @@ Result<MotionResult> segment_motion(const MotionInput& in, const MotionSegmentat
             }
             if (photo != nullptr) {
                 const float p = photo->ptr<float>(y)[x];
-                if (std::isfinite(p) && p > c.min_photometric) {
+                if (std::isfinite(p) && p > out.photometric_threshold) {
                     d[x] = 128;  // evidence only
                     continue;
                 }

@@ -78,6 +78,10 @@ struct MotionResult {
     int segments = 0;         ///< geometric segments (or regions) made dynamic
     int mask_pixels = 0;      ///< non-zero pixels of `mask`
     int still_segments = 0;   ///< segments or regions dynamic by residual, but still by history
+    /// Intensity change that counted as evidence this frame (0..255; 0 when the photometric
+    /// evidence was off or had no pixels): max(min_photometric, photometric_spread_factor x the
+    /// median intensity residual).
+    float photometric_threshold = 0.f;
 };
 
 /// Segments one frame. kInvalidArgument naming the input whose type or size is wrong.

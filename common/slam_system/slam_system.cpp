@@ -102,6 +102,7 @@ Result<FrameReport> SlamSystem::process(const io::RgbdImage& image,
         report.stage1 = report.tracking;
         report.invalid = dynamics::combine(in.segments, in.instance_ids, cv::Mat(), cv::Mat(),
                                            config_.dynamics.invalid);
+        keep_explained_out_of_fusion(in, &report.invalid);
     } else {
         DF_RETURN_IF_ERROR(track_static(in, guess, &report).with_context(where));
     }
@@ -236,14 +237,19 @@ Status SlamSystem::predict_objects(const Eigen::Isometry3d& guess, Input* in, Fr
                                                   background);
     if (!objects) return objects.status();
     in->objects = std::move(objects).value();
-    // Furniture the static map already holds where it stands stays in it: leaving it out would
-    // leave a hole that the next frame, whose detector misses it, shows as a mover.
+    // Furniture the static map already holds where it stands stays in its tracking: leaving it
+    // out would leave a hole that the next frame, whose detector misses it, shows as a mover. It
+    // is not fused, so the map keeps the furniture where it was: were it fused, an object that
+    // starts to move slowly would be followed by the map and drag the camera with it.
     const objects::ObjectMapsConfig& c = config_.objects;
     if (c.static_explained_fraction < 1.f) {
         for (uint16_t id : objects::explained_by_background(
                  in->segments.objects, in->objects.association, in->frame.levels[0].depth_m,
                  background, c.static_explained_fraction, c.association)) {
-            in->instance_ids.setTo(0, in->instance_ids == id);
+            const cv::Mat pixels = in->instance_ids == id;
+            if (in->explained.empty()) in->explained = cv::Mat::zeros(pixels.size(), CV_8UC1);
+            in->explained.setTo(255, pixels);
+            in->instance_ids.setTo(0, pixels);
         }
         in->instances = in->instance_ids != 0;
     }
@@ -270,6 +276,12 @@ Status SlamSystem::predict_objects(const Eigen::Isometry3d& guess, Input* in, Fr
     }
     report->times.objects_predict_ms = ms_since(t);
     return Status::ok();
+}
+
+void SlamSystem::keep_explained_out_of_fusion(const Input& in, dynamics::InvalidMask* invalid) {
+    if (in.explained.empty()) return;
+    if (invalid->fusion.empty()) invalid->fusion = cv::Mat::zeros(in.explained.size(), CV_8UC1);
+    invalid->fusion.setTo(255, in.explained);
 }
 
 cv::Mat SlamSystem::static_depth() const {
@@ -363,6 +375,7 @@ Status SlamSystem::track_static(const Input& in, const Eigen::Isometry3d& guess,
     previous_motion_ = report->motion.mask;
     report->invalid =
         dynamics::combine(in.segments, in.instance_ids, report->motion.mask, residual, d.invalid);
+    keep_explained_out_of_fusion(in, &report->invalid);
 
     const bool stage1_ok = stage1->state == TrackingState::kOk;
     const bool rescuable =

@@ -142,6 +142,9 @@ class SlamSystem {
         cv::Mat instance_ids;          ///< CV_16UC1, the instances left out (instance_labels)
         cv::Mat instances;             ///< CV_8UC1, instance_ids as a mask (255 = left out)
         cv::Mat rigid;                 ///< CV_8UC1, the rigid instances this frame's segments hold
+        /// CV_8UC1 (or empty), rigid instances the static map already explains (furniture):
+        /// tracked against the static map, but not fused into it.
+        cv::Mat explained;
         objects::ObjectFrame objects;  ///< the object maps' pixels of this frame
     };
 
@@ -160,6 +163,8 @@ class SlamSystem {
     /// Renders the object maps at `guess`, associates them with the frame's instances and
     /// leaves the pixels they claim out of the static map (as rigid instances).
     Status predict_objects(const Eigen::Isometry3d& guess, Input* in, FrameReport* report);
+    /// Adds in.explained (furniture the static map holds) to the pixels left out of fusion.
+    static void keep_explained_out_of_fusion(const Input& in, dynamics::InvalidMask* invalid);
     /// Stage 1, motion segmentation, stage 2; fills report->tracking and report->invalid.
     Status track_static(const Input& in, const Eigen::Isometry3d& guess, FrameReport* report);
     /// Moves the camera to the tracked pose (or counts the frame lost) and logs it.

@@ -243,6 +243,13 @@ int run_offline(const OfflineOptions& options, const config::SlamServiceConfig& 
         log::error(s.message());
         return 1;
     }
+    if (options.preset == "7scenes" && !config.slam().motion().has_min_photometric()) {
+        // 7-Scenes' colour is not registered to its depth: every edge's intensity then differs
+        // from the model's by tens of levels, which is no evidence of motion.
+        system_config.dynamics.motion.min_photometric = 0.f;
+        log::info("7scenes: colour is not registered to depth, so intensity changes are no "
+                  "motion evidence (slam.motion.min_photometric 0; set it to override)");
+    }
     if (options.dynamics == "off") {
         system_config.dynamics.use_segments = false;
         system_config.dynamics.motion_segmentation = false;
@@ -342,7 +349,7 @@ int run_offline(const OfflineOptions& options, const config::SlamServiceConfig& 
                 " motion_px=", report->motion.mask_pixels, " (2-means ",
                 report->motion.clusters.low * 1000, "/", report->motion.clusters.high * 1000,
                 " mm, ", report->motion.dynamic_pixels, " px above, ", report->motion.segments,
-                " segments, ", report->motion.still_segments, " still)",
+                " segments, ", report->motion.still_segments, " still, photometric > ", report->motion.photometric_threshold, ")",
                 " stage2=", report->stage2_ran ? slam::to_string(report->stage2.state) : "no",
                 " objects=", objects_text(*report), " total_ms=", report->times.total_ms);
         }

@@ -167,6 +167,40 @@ TEST(MotionSegmentation, ATexturedObjectTurningInPlaceIsFoundByItsIntensityChang
     EXPECT_EQ(cv::countNonZero(none->mask), 0);
 }
 
+TEST(MotionSegmentation, IntensityChangeOnAFrameWhoseColourIsOffEverywhereIsNoEvidence) {
+    // The drum of the test above, seen by a camera whose colour differs from the model by 40
+    // levels over the whole frame (exposure drift, colour not registered to depth): its change
+    // of 80 levels is then within the frame's own spread, and the leading edge alone is too
+    // little evidence; the same drum on a clean frame is found.
+    Scene s = make_scene(true, 0.15f, 7);
+    for (int y = 40; y < 70; ++y)
+        for (int x = 60; x < 100; ++x)
+            if (!(y < 42 && x < 80)) s.residual.at<float>(y, x) = 0.002f;
+    MotionSegmentationConfig c;
+    c.dilate_px = 0;
+    MotionInput in = input_of(s);
+    cv::Mat off_everywhere(kH, kW, CV_32F, cv::Scalar(40.f));
+    off_everywhere.setTo(80.f, s.truth);
+    in.photometric = off_everywhere;
+    auto drifted = segment_motion(in, c);
+    ASSERT_TRUE(drifted.is_ok());
+    EXPECT_EQ(cv::countNonZero(drifted->mask & s.truth), 0);
+    EXPECT_FLOAT_EQ(drifted->photometric_threshold, 5.f * 40.5f);
+    // The fixed threshold alone (spread factor 0) would have taken it.
+    c.photometric_spread_factor = 0.f;
+    auto fixed = segment_motion(in, c);
+    ASSERT_TRUE(fixed.is_ok());
+    EXPECT_GT(iou(fixed->mask, s.truth), 0.99);
+    c.photometric_spread_factor = 5.f;
+    cv::Mat clean(kH, kW, CV_32F, cv::Scalar(3.f));
+    clean.setTo(80.f, s.truth);
+    in.photometric = clean;
+    auto found = segment_motion(in, c);
+    ASSERT_TRUE(found.is_ok());
+    EXPECT_FLOAT_EQ(found->photometric_threshold, c.min_photometric);
+    EXPECT_GT(iou(found->mask, s.truth), 0.99);
+}
+
 TEST(MotionSegmentation, AFarMoverNoSegmentHoldsIsFoundAsARegionGrownOverItsWeakerPixels) {
     // A small thing at 4 m that the geometric segmentation left unlabelled (its segments fell
     // under the minimum size): 0 in the segment image. At 4 m the noise floor is 0.11 m; half

@@ -261,5 +261,89 @@ TEST(ObjectMaps, TheCapOnLiveMapsIsHitAndCounted) {
     EXPECT_EQ(r.system->lost_frames(), 0u);
 }
 
+/// Frames of the static scene `static_xyz` through the system; from frame `detect_from` on, the
+/// detector reports a "chair" on the largest geometric segment that lies inside the view (a
+/// piece of furniture the static map has held since the first frame). Per frame from then: the
+/// fractions of the chair's pixels left out of tracking and out of fusion.
+struct FurnitureRun {
+    std::vector<float> out_of_tracking, out_of_fusion;
+    std::vector<io::StampedPose> camera_gt;
+    std::unique_ptr<SlamSystem> system;
+};
+
+FurnitureRun run_furniture(int frames, int detect_from, const SystemConfig& config) {
+    const sim::Sequence s = test::make_noisy_sequence("static_xyz", frames);
+    auto created = SlamSystem::create(config);
+    EXPECT_TRUE(created.is_ok()) << created.status().message();
+    FurnitureRun r;
+    r.system = std::make_unique<SlamSystem>(std::move(created).value());
+    const seg::FrameSegmenterConfig segmenter;
+    const auto rigid = [](const detect::Detection&) { return detect::ClassKind::kRigid; };
+    for (int i = 0; i < frames; ++i) {
+        const test::SimFrame f = test::render_sim_frame(s, i);
+        r.camera_gt.push_back(io::stamped_pose(f.image.sensor_ns, f.world_T_camera));
+        auto geometric = seg::segment_depth(f.image, segmenter);
+        EXPECT_TRUE(geometric.is_ok()) << geometric.status().message();
+        if (!geometric.is_ok()) return r;
+        std::vector<detect::Detection> boxes;
+        if (i >= detect_from) {
+            // The largest segment whose box keeps 20 px off the image border and covers at most
+            // a fifth of the image.
+            const cv::Mat& g = geometric->labels;
+            const cv::Rect inner(20, 20, g.cols - 40, g.rows - 40);
+            cv::Rect best;
+            int best_pixels = 0;
+            for (int id = 1; id <= geometric->count; ++id) {
+                const cv::Mat m = g == id;
+                const int pixels = cv::countNonZero(m);
+                const cv::Rect box = cv::boundingRect(m);
+                if (pixels <= best_pixels || (box & inner) != box ||
+                    box.area() > g.total() / 5)
+                    continue;
+                best = box;
+                best_pixels = pixels;
+            }
+            EXPECT_GT(best_pixels, 2000) << "frame " << i << ": no segment to call a chair";
+            boxes.push_back(detect::Detection{cv::Rect2f(best), 56, "chair", 0.9f});
+        }
+        auto segments = seg::fuse_segments(*geometric, boxes, rigid, segmenter.instances);
+        EXPECT_TRUE(segments.is_ok()) << segments.status().message();
+        if (!segments.is_ok()) return r;
+        auto report = r.system->process(f.image, *segments);
+        EXPECT_TRUE(report.is_ok()) << report.status().message();
+        if (!report.is_ok() || i < detect_from + 1) continue;
+        cv::Mat chair;
+        cv::resize(segments->objects.labels != 0, chair, report->invalid.tracking.size(), 0, 0,
+                   cv::INTER_NEAREST);
+        const float pixels = static_cast<float>(std::max(1, cv::countNonZero(chair)));
+        r.out_of_tracking.push_back(
+            static_cast<float>(cv::countNonZero(chair & report->invalid.tracking)) / pixels);
+        r.out_of_fusion.push_back(
+            static_cast<float>(cv::countNonZero(chair & report->invalid.fusion)) / pixels);
+    }
+    return r;
+}
+
+TEST(ObjectMaps, FurnitureTheStaticMapHoldsIsTrackedButNotFusedNorMapped) {
+    SystemConfig config;
+    config.objects.static_explained_fraction = 0.5f;
+    const FurnitureRun r = run_furniture(20, 8, config);
+    ASSERT_EQ(r.out_of_tracking.size(), 11u);
+    for (size_t k = 0; k < r.out_of_tracking.size(); ++k) {
+        EXPECT_LT(r.out_of_tracking[k], 0.05f) << "frame " << 9 + k << ": left out of tracking";
+        EXPECT_GT(r.out_of_fusion[k], 0.95f) << "frame " << 9 + k << ": fused";
+    }
+    EXPECT_TRUE(r.system->object_maps().objects().empty()) << "furniture got a map";
+    const auto ate = eval::compute_ate(r.camera_gt, r.system->trajectory());
+    ASSERT_TRUE(ate.is_ok()) << ate.status().message();
+    EXPECT_LT(ate->translation_m.rmse, 0.01);
+    EXPECT_EQ(r.system->lost_frames(), 0u);
+
+    // The rule off (the default): the chair is left out of tracking as well.
+    const FurnitureRun off = run_furniture(20, 8, SystemConfig{});
+    ASSERT_EQ(off.out_of_tracking.size(), 11u);
+    EXPECT_GT(off.out_of_tracking.back(), 0.9f);
+}
+
 }  // namespace
 }  // namespace df::slam
