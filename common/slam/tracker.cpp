@@ -107,6 +107,17 @@ Eigen::Isometry3d increment(const Vector6d& xi) {
     return out;
 }
 
+// The factor (<= 1) that brings a Gauss-Newton update within the configured trust region.
+double step_scale(const Vector6d& xi, const TrackingConfig& c) {
+    double scale = 1.0;
+    const double t = xi.head<3>().norm(), r = xi.tail<3>().norm();
+    if (c.max_step_translation_m > 0.f && t > c.max_step_translation_m)
+        scale = std::min(scale, c.max_step_translation_m / t);
+    if (c.max_step_rotation_rad > 0.f && r > c.max_step_rotation_rad)
+        scale = std::min(scale, c.max_step_rotation_rad / r);
+    return scale;
+}
+
 double condition_of(const Matrix6d& a) {
     const Eigen::SelfAdjointEigenSolver<Matrix6d> solver(a, Eigen::EigenvaluesOnly);
     const auto& ev = solver.eigenvalues();  // ascending
@@ -267,8 +278,9 @@ Result<TrackingResult> track(const Frame& frame, const ModelView& model,
                 figures.condition = condition_of(a);
             }
             if (iterations == 0 || icp.used + rgb.used < kMinRowsForStep) break;
-            const Vector6d xi = a.ldlt().solve(-b);
+            Vector6d xi = a.ldlt().solve(-b);
             if (!xi.allFinite()) break;
+            xi *= step_scale(xi, config);
             reference_T_camera = orthonormalized(increment(xi) * reference_T_camera);
             ++result.iterations;
             if (xi.head<3>().norm() < config.min_update_translation_m &&
