@@ -32,6 +32,17 @@ struct Splat {
     int u0, u1, v0, v1;  ///< covered pixels, inclusive, inside the image
     int cu, cv;          ///< the centre's pixel (covered whatever the disc test says)
     float uf, vf;        ///< the centre's projection, pixels
+    bool second;         ///< also drawn into the second layer (Renderer::Layers)
+};
+
+/// Where a band draws: the main images, and optionally a second layer (its own depth buffer and
+/// index image) of the surfels with confidence >= second_min_confidence, drawn in the same pass.
+struct Layers {
+    ModelPrediction* main = nullptr;
+    cv::Mat* second_depth = nullptr;  ///< CV_32FC3 scratch (as main's vertex while drawing)
+    cv::Mat* second_index = nullptr;  ///< CV_32SC1
+    float second_min_confidence = 0.f;
+    bool shade = true;  ///< false: main's vertex, normal and colour are left unspecified
 };
 
 /// floor and ceil for |x| < 2^31 without a libm call (baseline x86-64 has no rounding
@@ -114,20 +125,37 @@ class Renderer {
         for (int v = 0; v < height; ++v) ray_y_[v] = (static_cast<float>(v) - cy_) / fy_;
     }
 
-    /// Draws and shades the rows [v_begin, v_end) of `out` (allocated, width x height).
-    void render_band(int v_begin, int v_end, ModelPrediction& out) const {
+    /// Draws and shades the rows [v_begin, v_end) of the layers' images (allocated, width x
+    /// height).
+    void render_band(int v_begin, int v_end, const Layers& layers) const {
+        ModelPrediction& out = *layers.main;
+        const bool two = layers.second_index != nullptr;
         for (int v = v_begin; v < v_end; ++v) {
             auto* vertex_row = out.vertex.ptr<cv::Vec3f>(v);
             std::fill(vertex_row, vertex_row + width_, cv::Vec3f(0.f, 0.f, 0.f));
             int32_t* index_row = out.index.ptr<int32_t>(v);
             std::fill(index_row, index_row + width_, -1);
+            if (two) {
+                auto* depth_row = layers.second_depth->ptr<cv::Vec3f>(v);
+                std::fill(depth_row, depth_row + width_, cv::Vec3f(0.f, 0.f, 0.f));
+                int32_t* second_row = layers.second_index->ptr<int32_t>(v);
+                std::fill(second_row, second_row + width_, -1);
+            }
         }
         Splat s;
         for (size_t i = 0; i < surfels_.size(); ++i) {
             if (!project(i, v_begin, v_end, s)) continue;
-            draw(s, std::max(s.v0, v_begin), std::min(s.v1 + 1, v_end), out);
+            const int begin = std::max(s.v0, v_begin), end = std::min(s.v1 + 1, v_end);
+            if (two && surfels_[i].confidence >= layers.second_min_confidence) {
+                draw<true>(s, begin, end, out.vertex, out.index, layers.second_depth,
+                           layers.second_index);
+            } else {
+                draw<false>(s, begin, end, out.vertex, out.index, nullptr, nullptr);
+            }
         }
-        for (int v = v_begin; v < v_end; ++v) shade(v, out);
+        if (layers.shade) {
+            for (int v = v_begin; v < v_end; ++v) shade(v, out);
+        }
     }
 
   private:
@@ -188,7 +216,11 @@ class Renderer {
     /// overlapping discs of one surface the pixel gets the surfel it belongs to, not the one whose
     /// noise put it nearest the camera (a plain z-test biases unaveraged surfaces towards the
     /// camera by about a noise sigma). Points mode z-tests the centres.
-    void draw(const Splat& s, int v_begin, int v_end, ModelPrediction& out) const {
+    /// kSecond: the splat is also z-buffered into the second layer (second_depth, second_index),
+    /// with the same per-pixel tests computed once.
+    template <bool kSecond>
+    void draw(const Splat& s, int v_begin, int v_end, cv::Mat& depth, cv::Mat& index_image,
+              cv::Mat* second_depth, cv::Mat* second_index) const {
         // Locals, not members: the stores below are floats and could alias any float member,
         // which would reload every one of them per pixel.
         const float inv_plane = 1.f / s.plane;
@@ -208,8 +240,10 @@ class Renderer {
             const float row_inv = ny * y + nz;
             const float y_sq_1 = y * y + 1.f;
             const float dv = static_cast<float>(v) - vf;
-            float* vertex_row = out.vertex.ptr<float>(v);
-            int32_t* index_row = out.index.ptr<int32_t>(v);
+            float* vertex_row = depth.ptr<float>(v);
+            int32_t* index_row = index_image.ptr<int32_t>(v);
+            float* second_row = kSecond ? second_depth->ptr<float>(v) : nullptr;
+            int32_t* second_index_row = kSecond ? second_index->ptr<int32_t>(v) : nullptr;
             for (int u = u0; u <= u1; ++u) {
                 const float x = ray_x[u];
                 // The pixel's ray d = (x, y, 1) meets the plane n.X = n.p at depth t with
@@ -235,13 +269,31 @@ class Renderer {
                     float& best_rank = vertex_row[3 * u];
                     const float w = inv_depth;
                     const float tol = tol_a * w * w + tol_b;
-                    wins = facing & on_disc &
+                    const bool hit = facing & on_disc;
+                    wins = hit &
                            ((w == 0.f) | (inv_t > w + tol) | ((inv_t >= w - tol) & (rank < best_rank)));
                     inv_depth = wins ? inv_t : w;
                     best_rank = wins ? rank : best_rank;
+                    if constexpr (kSecond) {
+                        float& w2_ref = second_row[3 * u + 2];
+                        float& rank2 = second_row[3 * u];
+                        const float w2 = w2_ref;
+                        const float tol2 = tol_a * w2 * w2 + tol_b;
+                        const bool wins2 = hit & ((w2 == 0.f) | (inv_t > w2 + tol2) |
+                                                  ((inv_t >= w2 - tol2) & (rank < rank2)));
+                        w2_ref = wins2 ? inv_t : w2;
+                        rank2 = wins2 ? rank : rank2;
+                        second_index_row[u] = wins2 ? index : second_index_row[u];
+                    }
                 } else {
                     wins = facing & (inv_pz > inv_depth);
                     inv_depth = wins ? inv_pz : inv_depth;
+                    if constexpr (kSecond) {
+                        float& w2 = second_row[3 * u + 2];
+                        const bool wins2 = facing & (inv_pz > w2);
+                        w2 = wins2 ? inv_pz : w2;
+                        second_index_row[u] = wins2 ? index : second_index_row[u];
+                    }
                 }
                 index_row[u] = wins ? index : index_row[u];
             }
@@ -300,8 +352,122 @@ Status SurfelMap::predict_into(const Eigen::Isometry3f& world_T_camera, const io
     const Renderer renderer(*this, world_T_camera, k, width, height, frame_index, config);
     const int threads = detail::resolve_threads(config.threads);
     const int bands = std::max(1, std::min(threads, height / kMinBandRows));
+    Layers layers;
+    layers.main = &out;
     detail::run_tasks(bands, threads, [&](int b) {
-        renderer.render_band(b * height / bands, (b + 1) * height / bands, out);
+        renderer.render_band(b * height / bands, (b + 1) * height / bands, layers);
+    });
+    return Status::ok();
+}
+
+Status SurfelMap::predict_two_layers(const Eigen::Isometry3f& world_T_camera,
+                                     const io::Intrinsics& k, int width, int height,
+                                     int frame_index, const PredictionConfig& config,
+                                     float second_min_confidence, TwoLayerPrediction& out) const {
+    DF_RETURN_IF_ERROR(check_prediction_inputs(k, width, height, config));
+    if (!(second_min_confidence >= 0.f)) {
+        return error(StatusCode::kInvalidArgument,
+                     "SurfelMap::predict_two_layers: second_min_confidence must be >= 0, got " +
+                         std::to_string(second_min_confidence));
+    }
+    out.depth.create(height, width, CV_32FC3);
+    out.index.create(height, width, CV_32SC1);
+    out.second_depth.create(height, width, CV_32FC3);
+    out.second_index.create(height, width, CV_32SC1);
+    ModelPrediction main;  // headers only: the band draws into out's images
+    main.vertex = out.depth;
+    main.index = out.index;
+    const Renderer renderer(*this, world_T_camera, k, width, height, frame_index, config);
+    const int threads = detail::resolve_threads(config.threads);
+    const int bands = std::max(1, std::min(threads, height / kMinBandRows));
+    Layers layers;
+    layers.main = &main;
+    layers.second_depth = &out.second_depth;
+    layers.second_index = &out.second_index;
+    layers.second_min_confidence = second_min_confidence;
+    layers.shade = false;
+    detail::run_tasks(bands, threads, [&](int b) {
+        renderer.render_band(b * height / bands, (b + 1) * height / bands, layers);
+    });
+    return Status::ok();
+}
+
+Status SurfelMap::refresh_prediction(const std::vector<int32_t>& index_after,
+                                     const TwoLayerPrediction& layers,
+                                     const Eigen::Isometry3f& world_T_camera,
+                                     const io::Intrinsics& k, float min_confidence,
+                                     const PredictionConfig& config, ModelPrediction& out) const {
+    const int width = layers.index.cols, height = layers.index.rows;
+    DF_RETURN_IF_ERROR(check_prediction_inputs(k, width, height, config));
+    if (layers.index.type() != CV_32SC1 || layers.second_index.type() != CV_32SC1 ||
+        layers.second_index.size() != layers.index.size()) {
+        return error(StatusCode::kInvalidArgument,
+                     "SurfelMap::refresh_prediction: the index images are not those of "
+                     "predict_two_layers (two CV_32SC1 images of one size)");
+    }
+    out.vertex.create(height, width, CV_32FC3);
+    out.normal.create(height, width, CV_32FC3);
+    out.colour.create(height, width, CV_8UC3);
+    out.index.create(height, width, CV_32SC1);
+    const Eigen::Isometry3f camera_T_world = world_T_camera.inverse();
+    const Eigen::Matrix3f rotation = camera_T_world.linear();
+    const Eigen::Vector3f translation = camera_T_world.translation();
+    const float fx = static_cast<float>(k.fx), fy = static_cast<float>(k.fy);
+    const float cx = static_cast<float>(k.cx), cy = static_cast<float>(k.cy);
+    const auto after = [&](int32_t before) -> int32_t {
+        if (before < 0 || static_cast<size_t>(before) >= index_after.size()) return -1;
+        const int32_t index = index_after[static_cast<size_t>(before)];
+        return index >= 0 && static_cast<size_t>(index) < surfels_.size() ? index : -1;
+    };
+    const auto refresh_rows = [&](int v_begin, int v_end) {
+        for (int v = v_begin; v < v_end; ++v) {
+            const int32_t* first_row = layers.index.ptr<int32_t>(v);
+            const int32_t* second_row = layers.second_index.ptr<int32_t>(v);
+            int32_t* index_row = out.index.ptr<int32_t>(v);
+            auto* vertex_row = out.vertex.ptr<cv::Vec3f>(v);
+            auto* normal_row = out.normal.ptr<cv::Vec3f>(v);
+            auto* colour_row = out.colour.ptr<cv::Vec3b>(v);
+            const float y = (static_cast<float>(v) - cy) / fy;
+            for (int u = 0; u < width; ++u) {
+                const float x = (static_cast<float>(u) - cx) / fx;
+                int32_t shown = -1;
+                Eigen::Vector3f p, n;
+                float t = 0.f;
+                // The nearest surfel if it is confident now, else the nearest confident one.
+                for (const int32_t candidate : {after(first_row[u]), after(second_row[u])}) {
+                    if (candidate < 0) continue;
+                    const Surfel& surfel = surfels_[static_cast<size_t>(candidate)];
+                    if (!(surfel.confidence >= min_confidence)) continue;
+                    p = rotation * surfel.position + translation;
+                    n = rotation * surfel.normal;
+                    // The ray d = (x, y, 1) meets the plane n.X = n.p at depth n.p / n.d.
+                    const float plane = n.dot(p);
+                    const float facing = n.x() * x + n.y() * y + n.z();
+                    if (!(plane < 0.f && facing < 0.f)) continue;
+                    t = plane / facing;
+                    shown = candidate;
+                    break;
+                }
+                index_row[u] = shown;
+                if (shown < 0) {
+                    vertex_row[u] = cv::Vec3f(0.f, 0.f, 0.f);
+                    normal_row[u] = cv::Vec3f(0.f, 0.f, 0.f);
+                    colour_row[u] = cv::Vec3b(0, 0, 0);
+                    continue;
+                }
+                const Surfel& surfel = surfels_[static_cast<size_t>(shown)];
+                vertex_row[u] = config.splat ? cv::Vec3f(t * x, t * y, t)
+                                             : cv::Vec3f(p.x(), p.y(), p.z());
+                normal_row[u] = cv::Vec3f(n.x(), n.y(), n.z());
+                colour_row[u] = cv::Vec3b(to_byte(surfel.colour.x()), to_byte(surfel.colour.y()),
+                                          to_byte(surfel.colour.z()));
+            }
+        }
+    };
+    const int threads = detail::resolve_threads(config.threads);
+    const int bands = std::max(1, std::min(threads, height / kMinBandRows));
+    detail::run_tasks(bands, threads, [&](int b) {
+        refresh_rows(b * height / bands, (b + 1) * height / bands);
     });
     return Status::ok();
 }

@@ -324,11 +324,16 @@ Result<FusionStats> SurfelMap::fuse(const cv::Mat& vertex_map_cam, const cv::Mat
         }
     }
     total_rejected_by_capacity_ += stats.rejected_by_capacity;
+    std::vector<int32_t>* index_after = options.index_after;
+    if (index_after != nullptr) {
+        index_after->resize(existing);
+        for (size_t i = 0; i < existing; ++i) (*index_after)[i] = static_cast<int32_t>(i);
+    }
     if (config_.remove_free_space) {
         remove_free_space(vertex_map_cam, mask, camera_T_world, intrinsics, frame_index, existing,
-                          stats);
+                          stats, false, index_after);
     }
-    stats.removed = clean(frame_index);
+    stats.removed = clean(frame_index, index_after);
     stats.total = surfels_.size();
     stats.stable = stable_count();
     return stats;
@@ -337,7 +342,7 @@ Result<FusionStats> SurfelMap::fuse(const cv::Mat& vertex_map_cam, const cv::Mat
 void SurfelMap::remove_free_space(const cv::Mat& vertex_map_cam, const cv::Mat& mask,
                                   const Eigen::Isometry3f& camera_T_world, const io::Intrinsics& k,
                                   int frame_index, size_t existing, FusionStats& stats,
-                                  bool keep_stable) {
+                                  bool keep_stable, std::vector<int32_t>* index_after) {
     const int width = vertex_map_cam.cols;
     const int height = vertex_map_cam.rows;
     // Measured depth per pixel, 0 where the frame proves nothing (invalid or masked).
@@ -402,24 +407,38 @@ void SurfelMap::remove_free_space(const cv::Mat& vertex_map_cam, const cv::Mat& 
         }
     }
     if (flagged == 0) return;
-    size_t kept = 0;
-    for (size_t i = 0; i < surfels_.size(); ++i) {
-        if (i < existing && remove_flags_[i] != 0) continue;
-        if (kept != i) surfels_[kept] = surfels_[i];
-        ++kept;
-    }
-    surfels_.resize(kept);
+    compact([&](size_t i) { return i >= existing || remove_flags_[i] == 0; }, index_after);
     stats.removed_free_space = flagged;
 }
 
-size_t SurfelMap::clean(int frame_index) {
-    const auto end = std::remove_if(surfels_.begin(), surfels_.end(), [&](const Surfel& s) {
-        return !is_stable(s) &&
-               frame_index - s.last_seen_frame > config_.unstable_max_unseen_frames;
-    });
-    const auto removed = static_cast<size_t>(surfels_.end() - end);
-    surfels_.erase(end, surfels_.end());
+template <class Keep>
+size_t SurfelMap::compact(const Keep& keep, std::vector<int32_t>* index_after) {
+    if (index_after != nullptr) moved_to_.assign(surfels_.size(), -1);
+    size_t kept = 0;
+    for (size_t i = 0; i < surfels_.size(); ++i) {
+        if (!keep(i)) continue;
+        if (index_after != nullptr) moved_to_[i] = static_cast<int32_t>(kept);
+        if (kept != i) surfels_[kept] = surfels_[i];
+        ++kept;
+    }
+    const size_t removed = surfels_.size() - kept;
+    surfels_.resize(kept);
+    if (index_after != nullptr && removed > 0) {
+        for (int32_t& index : *index_after) {
+            if (index >= 0) index = moved_to_[static_cast<size_t>(index)];
+        }
+    }
     return removed;
+}
+
+size_t SurfelMap::clean(int frame_index, std::vector<int32_t>* index_after) {
+    return compact(
+        [&](size_t i) {
+            const Surfel& s = surfels_[i];
+            return is_stable(s) ||
+                   frame_index - s.last_seen_frame <= config_.unstable_max_unseen_frames;
+        },
+        index_after);
 }
 
 Status SurfelMap::write_ply(const std::string& file, bool stable_only) const {

@@ -47,6 +47,14 @@ struct ModelPrediction {
                      ///< valid until the map next changes
 };
 
+/// SurfelMap::predict_two_layers' index images (CV_32SC1, -1 where none) and the depth buffers
+/// they were drawn with; kept by the caller so that its buffers are reused frame to frame.
+struct TwoLayerPrediction {
+    cv::Mat index;         ///< the nearest surfel of every surfel drawn (predict()'s index)
+    cv::Mat second_index;  ///< the nearest of those with confidence >= second_min_confidence
+    cv::Mat depth, second_depth;  ///< scratch (inverse depth and rank while drawing)
+};
+
 /// How SurfelMap::predict renders.
 /// Its fields (defaults, ranges, units, meanings) are declared once, in
 /// common/config/slam.proto (SlamParams.Prediction), and generated into params/slam_params.hpp.
@@ -86,6 +94,10 @@ struct FuseOptions {
     /// against half of *this* image's diagonal, so a pixel weighs the same in a crop as in the
     /// whole frame. Empty: the images are the whole sensor image.
     cv::Size sensor_size;
+    /// Not null: filled with, per surfel index before the call, its index after it (-1 for a
+    /// surfel the call removed), so that an index image of the map before fusion (the
+    /// association rendering) can be brought up to date (SurfelMap::refresh_prediction).
+    std::vector<int32_t>* index_after = nullptr;
 };
 
 class SurfelMap {
@@ -127,7 +139,7 @@ class SurfelMap {
 
     /// Removes unstable surfels not fused for more than config.unstable_max_unseen_frames
     /// (relative to frame_index); returns how many were removed. Keeps the order of the others.
-    size_t clean(int frame_index);
+    size_t clean(int frame_index) { return clean(frame_index, nullptr); }
 
     /// Renders the map from a camera: the active surfels (is_active at frame_index) that face
     /// the camera and pass config's filters, nearest first per pixel (see PredictionConfig).
@@ -139,6 +151,28 @@ class SurfelMap {
     Result<ModelPrediction> predict(const Eigen::Isometry3f& world_T_camera,
                                     const io::Intrinsics& k, int width, int height, int frame_index,
                                     const PredictionConfig& config = {}) const;
+    /// predict()'s index image and, drawn in the same pass (each pixel's tests computed once),
+    /// the index image predict() would give with min_confidence = second_min_confidence: what
+    /// fusion associates with, and what the model shows where the nearest surfel is not
+    /// confident. About 1.3 renderings' cost for two. Errors as predict().
+    Status predict_two_layers(const Eigen::Isometry3f& world_T_camera, const io::Intrinsics& k,
+                              int width, int height, int frame_index,
+                              const PredictionConfig& config, float second_min_confidence,
+                              TwoLayerPrediction& out) const;
+    /// The rendering of the map after fuse() (as predict() with min_confidence), made from a
+    /// predict_two_layers() of the map before it at the same pose instead of rendering again:
+    /// each pixel shows the nearest surfel if it is still there and now has min_confidence,
+    /// else the nearest confident one (second layer; surfel indices brought up to date by
+    /// FuseOptions::index_after), with its fused normal and colour and its vertex where the
+    /// pixel's ray meets the fused surfel's plane (splat mode; its centre in points mode).
+    /// It differs from a rendering only where fusion moved a surfel across another's depth or
+    /// made a hidden surfel confident. kInvalidArgument for index images not of
+    /// predict_two_layers or intrinsics as predict() rejects.
+    Status refresh_prediction(const std::vector<int32_t>& index_after,
+                              const TwoLayerPrediction& layers,
+                              const Eigen::Isometry3f& world_T_camera, const io::Intrinsics& k,
+                              float min_confidence, const PredictionConfig& config,
+                              ModelPrediction& out) const;
     /// predict() into `out`, whose images are overwritten in place when they already have the
     /// right size and type (so a caller that keeps `out` allocates nothing per frame; copies of
     /// its cv::Mat headers see the new contents). On error `out` is unspecified.
@@ -174,6 +208,12 @@ class SurfelMap {
     Status write_ply(const std::string& file, bool stable_only = true) const;
 
   private:
+    /// clean(), composing its moves into index_after when not null (FuseOptions::index_after).
+    size_t clean(int frame_index, std::vector<int32_t>* index_after);
+    /// Keeps the surfels i for which keep(i) is true, in their order; returns how many went.
+    /// index_after (may be null): each entry >= 0 is replaced by where that surfel went.
+    template <class Keep>
+    size_t compact(const Keep& keep, std::vector<int32_t>* index_after);
     /// The observation weight factors per column and row (weight_u_, weight_v_).
     void prepare_weights(int width, int height, const io::Intrinsics& intrinsics,
                          const cv::Size& sensor_size);
@@ -186,7 +226,7 @@ class SurfelMap {
     void remove_free_space(const cv::Mat& vertex_map_cam, const cv::Mat& mask,
                            const Eigen::Isometry3f& camera_T_world, const io::Intrinsics& k,
                            int frame_index, size_t existing, FusionStats& stats,
-                           bool keep_stable = false);
+                           bool keep_stable = false, std::vector<int32_t>* index_after = nullptr);
 
     SurfelMapConfig config_;
     std::vector<Surfel> surfels_;
@@ -204,6 +244,7 @@ class SurfelMap {
     std::vector<float> owner_distance_;  ///< its squared distance to the projected centre
     std::vector<float> measured_depth_;  ///< metres, 0 = no evidence (free-space pass)
     std::vector<uint8_t> remove_flags_;  ///< per surfel, free-space pass
+    std::vector<int32_t> moved_to_;      ///< per surfel, compact(): its new index or -1
 };
 
 }  // namespace df::map

@@ -57,11 +57,23 @@ class MapInstance {
     /// `associate_by_prediction`, pixels are associated with the surfels a rendering of every
     /// active surfel shows there. `create_surfels` false: only existing surfels are updated.
     /// A crop() of a frame weighs its observations as the whole frame would.
+    /// `keep_model_layer` (with associate_by_prediction): the rendering also keeps the surfels
+    /// with confidence >= prediction.min_confidence, for model_from_association().
     Result<map::FusionStats> fuse(const Frame& frame, const cv::Mat& rgb, const cv::Mat& mask,
                                   const Eigen::Isometry3d& map_T_camera, int map_time,
                                   bool associate_by_prediction,
                                   const map::PredictionConfig& prediction,
-                                  bool create_surfels = true);
+                                  bool create_surfels = true, bool keep_model_layer = false);
+
+    /// After a fuse() with keep_model_layer: makes the model the next frame is tracked against
+    /// out of fusion's rendering of the map, brought up to date with the fused map
+    /// (map::SurfelMap::refresh_prediction), instead of rendering the map again: the same model
+    /// as predict_model() at a fraction of the cost (one rendering per frame instead of two).
+    /// `config` as predict_model() would take it; its min_confidence must be the one fuse()
+    /// had. false (nothing changed) when the last fuse() made no such rendering (an empty map,
+    /// association by centres, no keep_model_layer) or made it at another pose or confidence.
+    Result<bool> model_from_association(const Frame& frame, const Eigen::Isometry3d& map_T_camera,
+                                        const map::PredictionConfig& config);
 
     /// The free-space pass alone (map::SurfelMap::carve) with the camera at map_T_camera: the
     /// surfels the frame's level-0 vertices see through are weakened or removed.
@@ -78,6 +90,17 @@ class MapInstance {
     bool model_stale_ = false;
     TrackingResult last_tracking_;
     map::ModelPrediction association_;  ///< reused buffers of fusion's association rendering
+    // fuse() with keep_model_layer: its two-layer rendering, from where, at which confidence,
+    // and the surfel indices after that fusion; model_from_association() uses them once.
+    map::TwoLayerPrediction layers_;
+    bool layers_fresh_ = false;
+    Eigen::Isometry3d layers_pose_ = Eigen::Isometry3d::Identity();
+    float layers_min_confidence_ = 0.f;
+    std::vector<int32_t> index_after_;
+    /// model_from_association() alternates between these: the model's images are never the
+    /// ones being written.
+    map::ModelPrediction model_buffers_[2];
+    int next_buffer_ = 0;
 };
 
 }  // namespace df::slam

@@ -423,27 +423,43 @@ void SlamSystem::update_pose(int64_t sensor_ns, FrameReport* report) {
 Status SlamSystem::map_static(const Input& in, FrameReport* report) {
     // ElasticFusion's order: fusion associates pixels with the surfels the map shows at the new
     // pose (every active surfel), then the map is predicted again, after fusion, as the model
-    // the next frame is tracked against (confident surfels only, once there are some).
+    // the next frame is tracked against (confident surfels only, once there are some). With
+    // system.model_from_association the one rendering serves both (MapInstance).
     ++map_time_;
     const auto t = std::chrono::steady_clock::now();
     const cv::Mat& mask = report->invalid.fusion;
     const bool masked = !mask.empty() && cv::countNonZero(mask) > 0;
+    const map::PredictionConfig model = model_prediction();
     Result<map::FusionStats> stats =
         static_.fuse(in.frame, in.image.rgb, masked ? mask : cv::Mat(), world_T_camera_, map_time_,
-                     config_.system.associate_by_prediction, config_.prediction);
+                     config_.system.associate_by_prediction, model, true,
+                     config_.system.model_from_association);
     if (!stats) return stats.status();
     report->fused = true;
     report->fusion = *stats;
     report->times.fusion_ms = ms_since(t);
-    return predict_model(in.frame, report);
+    return predict_model(in.frame, report, config_.system.model_from_association);
 }
 
-Status SlamSystem::predict_model(const Frame& frame, FrameReport* report) {
-    const auto t = std::chrono::steady_clock::now();
+map::PredictionConfig SlamSystem::model_prediction() const {
     map::PredictionConfig prediction = config_.prediction;
     prediction.min_confidence =
         map_time_ <= config_.system.bootstrap_frames ? 0.f : config_.system.predict_min_confidence;
-    DF_RETURN_IF_ERROR(static_.predict_model(frame, world_T_camera_, map_time_, prediction));
+    return prediction;
+}
+
+Status SlamSystem::predict_model(const Frame& frame, FrameReport* report, bool reuse_association) {
+    const auto t = std::chrono::steady_clock::now();
+    const map::PredictionConfig prediction = model_prediction();
+    bool reused = false;
+    if (reuse_association) {
+        Result<bool> r = static_.model_from_association(frame, world_T_camera_, prediction);
+        if (!r) return r.status();
+        reused = *r;
+    }
+    if (!reused) {
+        DF_RETURN_IF_ERROR(static_.predict_model(frame, world_T_camera_, map_time_, prediction));
+    }
     report->times.prediction_ms += ms_since(t);
     return Status::ok();
 }

@@ -176,8 +176,11 @@ class SlamSystem {
     /// Tracks, fuses, creates and retires the object maps (the camera's pose is known).
     Status map_objects(Input* in, FrameReport* report);
     /// The model the next frame is tracked against: the map predicted at world_T_camera_
-    /// (confident surfels only once bootstrapped).
-    Status predict_model(const Frame& frame, FrameReport* report);
+    /// (confident surfels only once bootstrapped). reuse_association: out of fusion's rendering
+    /// of this frame when there is one (system.model_from_association), else rendered.
+    Status predict_model(const Frame& frame, FrameReport* report, bool reuse_association = false);
+    /// How the model is rendered at map_time_ (confident surfels only once bootstrapped).
+    map::PredictionConfig model_prediction() const;
 
     SystemConfig config_;
     MapInstance static_;

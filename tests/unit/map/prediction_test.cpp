@@ -325,5 +325,100 @@ TEST(Prediction, BadInputsAreRejected) {
     EXPECT_NE(status.status().message().find("cx"), std::string::npos);
 }
 
+/// A wall fused for `frames` frames (confident), then a box in front of it fused once (not).
+SurfelMap wall_with_new_box(int frames, const Scene& box_scene) {
+    SurfelMap map;
+    const Scene wall{{box_scene.planes}, {}};
+    for (int frame = 0; frame < frames; ++frame) {
+        fuse(map, wall, pose({0.01f * frame, 0.f, 0.f}), frame);
+    }
+    fuse(map, box_scene, pose({0.01f * frames, 0.f, 0.f}), frames);
+    return map;
+}
+
+Scene wall_and_box() {
+    return Scene{{Plane{Eigen::Vector3f(0.f, 0.f, 1.f), 2.f, 50}},
+                 {Box{{-0.3f, -0.2f, 1.2f}, {0.1f, 0.25f, 1.5f}, {200, 20, 20}}}};
+}
+
+TEST(Prediction, TwoLayersAreTheRenderingsOfAllAndOfConfidentSurfels) {
+    const SurfelMap map = wall_with_new_box(6, wall_and_box());
+    const Eigen::Isometry3f camera = pose({0.05f, 0.02f, 0.f}, 0.03f);
+    PredictionConfig all;
+    PredictionConfig confident;
+    confident.min_confidence = 2.f;
+    const ModelPrediction every = predict(map, camera, 6, all);
+    const ModelPrediction wall_only = predict(map, camera, 6, confident);
+    TwoLayerPrediction layers;
+    ASSERT_TRUE(map.predict_two_layers(camera, intrinsics_for(kWidth, kHeight), kWidth, kHeight, 6,
+                                       all, confident.min_confidence, layers)
+                    .is_ok());
+    // The box hides part of the wall in the first layer, not in the second.
+    EXPECT_GT(cv::countNonZero(every.index != wall_only.index), kWidth * kHeight / 10);
+    EXPECT_EQ(cv::countNonZero(layers.index != every.index), 0);
+    EXPECT_EQ(cv::countNonZero(layers.second_index != wall_only.index), 0);
+}
+
+TEST(Prediction, RefreshedAfterFusionIsTheRenderingOfTheFusedMap) {
+    // The camera sees the wall again with the box gone: fusion updates the wall's surfels and
+    // removes the box's (seen through). The refreshed rendering must show the wall everywhere,
+    // as a new rendering of the fused map does.
+    const Scene scene = wall_and_box();
+    SurfelMap map = wall_with_new_box(6, scene);
+    const std::vector<Surfel> before = map.surfels();
+    const Eigen::Isometry3f camera = pose({0.06f, 0.f, 0.f});
+    const io::Intrinsics k = intrinsics_for(kWidth, kHeight);
+    PredictionConfig config;
+    config.min_confidence = 2.f;
+    TwoLayerPrediction layers;
+    PredictionConfig all = config;
+    all.min_confidence = 0.f;
+    ASSERT_TRUE(map.predict_two_layers(camera, k, kWidth, kHeight, 7, all, config.min_confidence,
+                                       layers)
+                    .is_ok());
+    const View wall = render(Scene{scene.planes, {}}, camera, kWidth, kHeight);
+    std::vector<int32_t> index_after;
+    FuseOptions options;
+    options.index_after = &index_after;
+    const auto stats =
+        map.fuse(wall.vertex, wall.normal, wall.rgb, {}, layers.index, camera, k, 7, options);
+    ASSERT_TRUE(stats.is_ok()) << stats.status().to_string();
+    EXPECT_GT(stats->removed_free_space, 100u);
+
+    // index_after: each surviving surfel maps to itself (same birth, same place); the others
+    // are exactly the removed ones.
+    ASSERT_EQ(index_after.size(), before.size());
+    size_t gone = 0;
+    for (size_t i = 0; i < before.size(); ++i) {
+        if (index_after[i] < 0) {
+            ++gone;
+            continue;
+        }
+        const Surfel& now = map.surfels()[static_cast<size_t>(index_after[i])];
+        EXPECT_EQ(now.init_frame, before[i].init_frame);
+        EXPECT_LT((now.position - before[i].position).norm(), 0.02f);
+    }
+    EXPECT_EQ(gone, stats->removed + stats->removed_free_space);
+
+    ModelPrediction refreshed;
+    ASSERT_TRUE(
+        map.refresh_prediction(index_after, layers, camera, k, config.min_confidence, config,
+                               refreshed)
+            .is_ok());
+    const ModelPrediction rendered = predict(map, camera, 7, config);
+    const int pixels = kWidth * kHeight;
+    EXPECT_GE(cv::countNonZero(refreshed.index == rendered.index), pixels * 98 / 100);
+    const Agreement a = compare(refreshed, wall, 2);
+    EXPECT_GE(a.covered, a.truth * 98 / 100);
+    EXPECT_GE(a.depth_ok, a.truth * 95 / 100);
+    EXPECT_GE(a.colour_ok, a.truth * 95 / 100);
+
+    // Index images of another size are rejected.
+    TwoLayerPrediction wrong = layers;
+    wrong.second_index = cv::Mat(3, 3, CV_32SC1, cv::Scalar(-1));
+    EXPECT_EQ(map.refresh_prediction(index_after, wrong, camera, k, 2.f, config, refreshed).code(),
+              StatusCode::kInvalidArgument);
+}
+
 }  // namespace
 }  // namespace df::map
