@@ -59,7 +59,7 @@ expect_refused "$TMP/k3/intrinsics.txt:2: image size 64000x480, allowed: 1x1 to 
 "$BIN/df_slam" params >"$TMP/params.txt"
 grep -qE '^map.confidence_sigma +0.6 +> 0 and <= 100 ' "$TMP/params.txt" \
   || fail "df_slam params lacks the range of map.confidence_sigma: $(grep confidence_sigma "$TMP/params.txt")"
-grep -qE '^prediction.max_splat_radius_px +2 +>= 0 and <= 64 \[px\]' "$TMP/params.txt" \
+grep -qE '^prediction.max_splat_radius_px +1 +>= 0 and <= 64 \[px\]' "$TMP/params.txt" \
   || fail "df_slam params lacks the range and unit of max_splat_radius_px"
 pass "df_slam params shows ranges and units"
 
