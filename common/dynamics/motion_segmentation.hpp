@@ -60,10 +60,13 @@ struct MotionInput {
     /// segment or region that the old frame saw but not through is still, not a mover.
     cv::Mat history;
     /// Optional producers of `carried` and `history` when those are empty: called only when a
-    /// frame gets as far as growing segments (most frames stop at the guards before), so the
-    /// projections cost nothing on frames without motion.
-    std::function<cv::Mat()> carried_source;
-    std::function<cv::Mat()> history_source;
+    /// frame gets as far as growing segments (most frames stop at the guards before), and then
+    /// with the pixels whose value can change the outcome (CV_8UC1, non-zero = needed: the
+    /// segments whose evidence is between the two fractions, the candidates a history can
+    /// keep still), so the projections cost little on frames with motion and nothing without.
+    /// Outside `needed` what they return is not read.
+    std::function<cv::Mat(const cv::Mat& needed)> carried_source;
+    std::function<cv::Mat(const cv::Mat& needed)> history_source;
 };
 
 /// history_evidence's codes.
@@ -92,9 +95,11 @@ Result<MotionResult> segment_motion(const MotionInput& input,
 /// pixel with a vertex (CV_32FC3, current camera frame, metres; z <= 0 invalid) is moved into the
 /// previous camera by previous_T_current and looks the mask up at its projection (intrinsics fx,
 /// fy, cx, cy of both frames). Pixels without a vertex take the previous mask at the same pixel.
+/// With `needed` (CV_8UC1 of the vertex map's size) only its non-zero pixels are looked up,
+/// the rest are 0.
 cv::Mat warp_mask(const cv::Mat& previous, const cv::Mat& vertex,
                   const Eigen::Isometry3f& previous_T_current, float fx, float fy, float cx,
-                  float cy);
+                  float cy, const cv::Mat& needed = cv::Mat());
 
 /// Free-space evidence against an older frame, per pixel of the current one (CV_8UC1): each
 /// current vertex (CV_32FC3, current camera frame, metres; z <= 0 invalid) is moved into the old
@@ -107,8 +112,11 @@ cv::Mat warp_mask(const cv::Mat& previous, const cv::Mat& vertex,
 /// instance (`old_rigid`, CV_8UC1; empty: wherever it was): something a detection kept out of
 /// the map, which stood still; else kNoEvidence (nearer: occluded then; missing; outside the old
 /// frame; still, but not an instance then, such as a mover that pauses, which stays a mover).
+/// With `needed` (CV_8UC1 of the vertex map's size) only its non-zero pixels are evaluated, the
+/// rest are kNoEvidence.
 cv::Mat history_evidence(const cv::Mat& vertex, const cv::Mat& residual_m, const cv::Mat& old_depth,
                          const cv::Mat& old_rigid, const Eigen::Isometry3f& old_T_current, float fx,
-                         float fy, float cx, float cy, const MotionSegmentationConfig& config);
+                         float fy, float cx, float cy, const MotionSegmentationConfig& config,
+                         const cv::Mat& needed = cv::Mat());
 
 }  // namespace df::dynamics

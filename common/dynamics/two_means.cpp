@@ -10,12 +10,10 @@ Histogram::Histogram(float max_value, int bins)
       bin_width_(max_value_ / static_cast<float>(std::max(bins, 2))),
       bins_(static_cast<size_t>(std::max(bins, 2)), 0) {}
 
-void Histogram::add(float value) {
-    if (!(value >= 0.f)) value = 0.f;  // NaN and negatives count as 0
-    const int last = static_cast<int>(bins_.size()) - 1;
-    const int b = value >= max_value_ ? last : std::min(last, static_cast<int>(value / bin_width_));
-    ++bins_[static_cast<size_t>(b)];
-    ++count_;
+void Histogram::add(const Histogram& other) {
+    const size_t n = std::min(bins_.size(), other.bins_.size());
+    for (size_t b = 0; b < n; ++b) bins_[b] += other.bins_[b];
+    count_ += other.count_;
 }
 
 TwoMeans Histogram::two_means(int max_iterations) const {

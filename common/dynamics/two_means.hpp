@@ -2,6 +2,7 @@
 /// 2-means of non-negative scalars (DetectFusion's split of ICP residuals into a static and a
 /// dynamic cluster): Lloyd's iterations on a histogram, so the cost is one pass over the values
 /// plus a few passes over the bins, whatever their number. DDS-free.
+#include <algorithm>
 #include <vector>
 
 namespace df::dynamics {
@@ -19,7 +20,16 @@ struct TwoMeans {
 class Histogram {
   public:
     Histogram(float max_value, int bins);
-    void add(float value);
+    void add(float value) {
+        if (!(value >= 0.f)) value = 0.f;  // NaN and negatives count as 0
+        const int last = static_cast<int>(bins_.size()) - 1;
+        const int b =
+            value >= max_value_ ? last : std::min(last, static_cast<int>(value / bin_width_));
+        ++bins_[static_cast<size_t>(b)];
+        ++count_;
+    }
+    /// Adds another histogram's counts (same max_value and bins; e.g. one per row block).
+    void add(const Histogram& other);
     int count() const { return count_; }
     /// 2-means of what was added: starts from the lowest and highest non-empty bins and
     /// iterates until the split stops moving (at most `max_iterations`). With fewer than two

@@ -206,6 +206,26 @@ Result<FusionStats> SurfelMap::fuse(const cv::Mat& vertex_map_cam, const cv::Mat
     // surfels would pile up as duplicate layers wherever normals are noisy).
     const int window = std::max(0, config_.association_window_px);
     const size_t pixels = static_cast<size_t>(width) * height;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    shown_.resize(pixels);
+    cv::parallel_for_(cv::Range(0, height), [&](const cv::Range& rows) {
+        for (int v = rows.start; v < rows.end; ++v) {
+            for (int u = 0; u < width; ++u) {
+                Shown& shown = shown_[static_cast<size_t>(v) * width + u];
+                const int32_t c = candidate_at(u, v);
+                if (c < 0 || static_cast<size_t>(c) >= existing) {
+                    shown.depth = nan;
+                    continue;
+                }
+                const Surfel& s = surfels_[static_cast<size_t>(c)];
+                const Eigen::Vector3f p = camera_R_world * s.position + camera_t_world;
+                shown.depth = p.z();
+                shown.u = fx * p.x() / p.z() + cx;
+                shown.v = fy * p.y() / p.z() + cy;
+                shown.normal = s.normal;
+            }
+        }
+    });
     pixel_candidate_.assign(pixels, kNoCandidate);
     pixel_distance_.assign(pixels, std::numeric_limits<float>::infinity());
     cv::parallel_for_(cv::Range(0, height), [&](const cv::Range& rows) {
@@ -226,16 +246,15 @@ Result<FusionStats> SurfelMap::fuse(const cv::Mat& vertex_map_cam, const cv::Mat
                         const int32_t c = candidate_at(x, y);
                         if (c < 0 || static_cast<size_t>(c) >= existing || c == last) continue;
                         last = c;
-                        const Surfel& s = surfels_[static_cast<size_t>(c)];
-                        const Eigen::Vector3f p = camera_R_world * s.position + camera_t_world;
-                        if (!(p.z() > 0.f) || !(std::abs(p.z() - vc[2]) <
-                                                config_.max_depth_difference_m)) {
+                        const Shown& s = shown_[static_cast<size_t>(y) * width + x];
+                        if (!(s.depth > 0.f) ||
+                            !(std::abs(s.depth - vc[2]) < config_.max_depth_difference_m)) {
                             continue;
                         }
                         surface_near = true;
                         if (!(s.normal.dot(normal) > min_normal_dot)) continue;
-                        const float du = fx * p.x() / p.z() + cx - static_cast<float>(u);
-                        const float dv = fy * p.y() / p.z() + cy - static_cast<float>(v);
+                        const float du = s.u - static_cast<float>(u);
+                        const float dv = s.v - static_cast<float>(v);
                         const float d2 = du * du + dv * dv;
                         if (d2 < best_d2) {
                             best_d2 = d2;
@@ -265,51 +284,75 @@ Result<FusionStats> SurfelMap::fuse(const cv::Mat& vertex_map_cam, const cv::Mat
             owner_pixel_[static_cast<size_t>(c)] = static_cast<int32_t>(pixel);
         }
     }
+    // The observation a pixel makes, in the world.
+    struct Observation {
+        Eigen::Vector3f position, normal, colour;
+        float weight, radius;
+    };
+    const auto observe = [&](int u, int v) {
+        const cv::Vec3f& vc = vertex_map_cam.ptr<cv::Vec3f>(v)[u];
+        const cv::Vec3f& nc = normal_map_cam.ptr<cv::Vec3f>(v)[u];
+        const cv::Vec3b& c = rgb.ptr<cv::Vec3b>(v)[u];
+        Observation o;
+        o.weight = weight_u_[static_cast<size_t>(u)] * weight_v_[static_cast<size_t>(v)];
+        o.radius = vc[2] * radius_scale / std::max(std::abs(nc[2]), config_.min_abs_normal_z);
+        o.position = world_R_camera * Eigen::Vector3f(vc[0], vc[1], vc[2]) + world_t_camera;
+        o.normal = (world_R_camera * Eigen::Vector3f(nc[0], nc[1], nc[2])).normalized();
+        o.colour = Eigen::Vector3f(c[0], c[1], c[2]);
+        return o;
+    };
+    // Updates first, in parallel: each surfel has one owner pixel, so no two pixels write the
+    // same surfel, and the new surfels come after the existing ones.
+    struct UpdateCounts {
+        size_t known_surface = 0, covered = 0, fused = 0;
+    };
+    const int blocks = std::min(height, 8);
+    std::vector<UpdateCounts> block_counts(static_cast<size_t>(std::max(blocks, 0)));
+    cv::parallel_for_(cv::Range(0, blocks), [&](const cv::Range& range) {
+        for (int b = range.start; b < range.end; ++b) {
+            UpdateCounts& counts = block_counts[static_cast<size_t>(b)];
+            for (int v = height * b / blocks; v < height * (b + 1) / blocks; ++v) {
+                for (int u = 0; u < width; ++u) {
+                    const size_t pixel = static_cast<size_t>(v) * width + u;
+                    const int32_t candidate = pixel_candidate_[pixel];
+                    if (candidate == kKnownSurface) {
+                        ++counts.known_surface;
+                        continue;
+                    }
+                    if (candidate < 0) continue;
+                    if (owner_pixel_[static_cast<size_t>(candidate)] !=
+                        static_cast<int32_t>(pixel)) {
+                        ++counts.covered;
+                        continue;
+                    }
+                    const Observation o = observe(u, v);
+                    Surfel& s = surfels_[static_cast<size_t>(candidate)];
+                    const float sum = s.confidence + o.weight;
+                    if (o.radius < config_.merge_radius_factor * s.radius) {
+                        const float a = s.confidence / sum;
+                        const float w = o.weight / sum;
+                        s.position = a * s.position + w * o.position;
+                        s.normal = (a * s.normal + w * o.normal).normalized();
+                        s.colour = a * s.colour + w * o.colour;
+                        s.radius = a * s.radius + w * o.radius;
+                    }
+                    s.confidence = sum;
+                    s.last_seen_frame = frame_index;
+                    ++counts.fused;
+                }
+            }
+        }
+    });
+    for (const UpdateCounts& counts : block_counts) {
+        stats.known_surface += counts.known_surface;
+        stats.covered += counts.covered;
+        stats.fused += counts.fused;
+    }
+    // Then the new surfels, in pixel order (their indices do not depend on the threads).
     for (int v = 0; v < height; ++v) {
-        const auto* vertex_row = vertex_map_cam.ptr<cv::Vec3f>(v);
-        const auto* normal_row = normal_map_cam.ptr<cv::Vec3f>(v);
-        const auto* rgb_row = rgb.ptr<cv::Vec3b>(v);
         for (int u = 0; u < width; ++u) {
             const size_t pixel = static_cast<size_t>(v) * width + u;
-            const int32_t candidate = pixel_candidate_[pixel];
-            if (candidate == kKnownSurface) {
-                ++stats.known_surface;
-                continue;
-            }
-            if (candidate == kNoCandidate && !valid_pixel(u, v)) continue;
-            const cv::Vec3f& vc = vertex_row[u];
-            const cv::Vec3f& nc = normal_row[u];
-            const float weight =
-                weight_u_[static_cast<size_t>(u)] * weight_v_[static_cast<size_t>(v)];
-            const float radius =
-                vc[2] * radius_scale / std::max(std::abs(nc[2]), config_.min_abs_normal_z);
-            const Eigen::Vector3f position =
-                world_R_camera * Eigen::Vector3f(vc[0], vc[1], vc[2]) + world_t_camera;
-            const Eigen::Vector3f normal =
-                (world_R_camera * Eigen::Vector3f(nc[0], nc[1], nc[2])).normalized();
-            const cv::Vec3b& c = rgb_row[u];
-            const Eigen::Vector3f colour(c[0], c[1], c[2]);
-
-            if (candidate >= 0) {
-                if (owner_pixel_[static_cast<size_t>(candidate)] != static_cast<int32_t>(pixel)) {
-                    ++stats.covered;
-                    continue;
-                }
-                Surfel& s = surfels_[static_cast<size_t>(candidate)];
-                const float sum = s.confidence + weight;
-                if (radius < config_.merge_radius_factor * s.radius) {
-                    const float a = s.confidence / sum;
-                    const float b = weight / sum;
-                    s.position = a * s.position + b * position;
-                    s.normal = (a * s.normal + b * normal).normalized();
-                    s.colour = a * s.colour + b * colour;
-                    s.radius = a * s.radius + b * radius;
-                }
-                s.confidence = sum;
-                s.last_seen_frame = frame_index;
-                ++stats.fused;
-                continue;
-            }
+            if (pixel_candidate_[pixel] != kNoCandidate || !valid_pixel(u, v)) continue;
             if (!options.create_surfels) {
                 ++stats.not_created;
                 continue;
@@ -318,8 +361,9 @@ Result<FusionStats> SurfelMap::fuse(const cv::Mat& vertex_map_cam, const cv::Mat
                 ++stats.rejected_by_capacity;
                 continue;
             }
-            surfels_.push_back(
-                Surfel{position, normal, colour, radius, weight, frame_index, frame_index});
+            const Observation o = observe(u, v);
+            surfels_.push_back(Surfel{o.position, o.normal, o.colour, o.radius, o.weight,
+                                      frame_index, frame_index});
             ++stats.created;
         }
     }
@@ -347,64 +391,86 @@ void SurfelMap::remove_free_space(const cv::Mat& vertex_map_cam, const cv::Mat& 
     const int height = vertex_map_cam.rows;
     // Measured depth per pixel, 0 where the frame proves nothing (invalid or masked).
     measured_depth_.resize(static_cast<size_t>(width) * height);
-    for (int v = 0; v < height; ++v) {
-        const auto* vertex_row = vertex_map_cam.ptr<cv::Vec3f>(v);
-        const uint8_t* mask_row = mask.empty() ? nullptr : mask.ptr<uint8_t>(v);
-        float* depth_row = measured_depth_.data() + static_cast<size_t>(v) * width;
-        for (int u = 0; u < width; ++u) {
-            const cv::Vec3f& p = vertex_row[u];
-            const bool valid =
-                (mask_row == nullptr || mask_row[u] == 0) && finite3(p) && p[2] > 0.f;
-            depth_row[u] = valid ? p[2] : 0.f;
+    cv::parallel_for_(cv::Range(0, height), [&](const cv::Range& rows) {
+        for (int v = rows.start; v < rows.end; ++v) {
+            const auto* vertex_row = vertex_map_cam.ptr<cv::Vec3f>(v);
+            const uint8_t* mask_row = mask.empty() ? nullptr : mask.ptr<uint8_t>(v);
+            float* depth_row = measured_depth_.data() + static_cast<size_t>(v) * width;
+            for (int u = 0; u < width; ++u) {
+                const cv::Vec3f& p = vertex_row[u];
+                const bool valid =
+                    (mask_row == nullptr || mask_row[u] == 0) && finite3(p) && p[2] > 0.f;
+                depth_row[u] = valid ? p[2] : 0.f;
+            }
         }
-    }
+    });
     const Eigen::Matrix3f rotation = camera_T_world.linear();
     const Eigen::Vector3f translation = camera_T_world.translation();
     const float fx = static_cast<float>(k.fx), fy = static_cast<float>(k.fy);
     const float cx = static_cast<float>(k.cx), cy = static_cast<float>(k.cy);
     const int window = std::max(0, config_.free_space_window_px);
     remove_flags_.assign(existing, 0);
-    size_t flagged = 0;
-    for (size_t i = 0; i < existing; ++i) {
-        Surfel& s = surfels_[i];
-        if (!is_active(s, frame_index) || (keep_stable && is_stable(s))) continue;
-        const Eigen::Vector3f p = rotation * s.position + translation;
-        if (!(p.z() > 0.f)) continue;
-        const float uf = std::floor(fx * p.x() / p.z() + cx + 0.5f);
-        const float vf = std::floor(fy * p.y() / p.z() + cy + 0.5f);
-        // The whole window must lie in the image (also rejects NaN).
-        if (!(uf >= static_cast<float>(window) && vf >= static_cast<float>(window) &&
-              uf < static_cast<float>(width - window) &&
-              vf < static_cast<float>(height - window))) {
-            continue;
-        }
-        const int u = static_cast<int>(uf);
-        const int v = static_cast<int>(vf);
-        const float margin = std::max(config_.free_space_margin_m,
-                                      config_.free_space_margin_per_m2 * p.z() * p.z()) +
-                             s.radius;
-        // Measured depth must exceed this at every pixel of the window (0 = no evidence fails).
-        const float behind = p.z() + margin;
-        if (!(measured_depth_[static_cast<size_t>(v) * width + u] > behind)) continue;
-        bool seen_through = true;
-        for (int y = v - window; y <= v + window && seen_through; ++y) {
-            const float* row = measured_depth_.data() + static_cast<size_t>(y) * width;
-            for (int x = u - window; x <= u + window; ++x) {
-                if (!(row[x] > behind)) {
-                    seen_through = false;
-                    break;
+    // Each surfel is tested on its own (it is weakened or flagged, nothing else is written), so
+    // blocks of surfels run in parallel; only the counts are summed.
+    struct Counts {
+        size_t flagged = 0, weakened = 0;
+    };
+    const size_t block_size = 16384;
+    const int blocks = static_cast<int>((existing + block_size - 1) / block_size);
+    std::vector<Counts> block_counts(static_cast<size_t>(blocks));
+    cv::parallel_for_(cv::Range(0, blocks), [&](const cv::Range& range) {
+        for (int b = range.start; b < range.end; ++b) {
+            Counts& counts = block_counts[static_cast<size_t>(b)];
+            const size_t end = std::min(existing, (static_cast<size_t>(b) + 1) * block_size);
+            for (size_t i = static_cast<size_t>(b) * block_size; i < end; ++i) {
+                Surfel& s = surfels_[i];
+                if (!is_active(s, frame_index) || (keep_stable && is_stable(s))) continue;
+                const Eigen::Vector3f p = rotation * s.position + translation;
+                if (!(p.z() > 0.f)) continue;
+                const float uf = std::floor(fx * p.x() / p.z() + cx + 0.5f);
+                const float vf = std::floor(fy * p.y() / p.z() + cy + 0.5f);
+                // The whole window must lie in the image (also rejects NaN).
+                if (!(uf >= static_cast<float>(window) && vf >= static_cast<float>(window) &&
+                      uf < static_cast<float>(width - window) &&
+                      vf < static_cast<float>(height - window))) {
+                    continue;
+                }
+                const int u = static_cast<int>(uf);
+                const int v = static_cast<int>(vf);
+                const float margin = std::max(config_.free_space_margin_m,
+                                              config_.free_space_margin_per_m2 * p.z() * p.z()) +
+                                     s.radius;
+                // Measured depth must exceed this at every pixel of the window (0 = no evidence
+                // fails).
+                const float behind = p.z() + margin;
+                if (!(measured_depth_[static_cast<size_t>(v) * width + u] > behind)) continue;
+                bool seen_through = true;
+                for (int y = v - window; y <= v + window && seen_through; ++y) {
+                    const float* row = measured_depth_.data() + static_cast<size_t>(y) * width;
+                    for (int x = u - window; x <= u + window; ++x) {
+                        if (!(row[x] > behind)) {
+                            seen_through = false;
+                            break;
+                        }
+                    }
+                }
+                if (!seen_through) continue;
+                if (is_stable(s)) {
+                    s.confidence -= config_.free_space_penalty *
+                                    weight_u_[static_cast<size_t>(u)] *
+                                    weight_v_[static_cast<size_t>(v)];
+                    ++counts.weakened;
+                } else {
+                    remove_flags_[i] = 1;
+                    ++counts.flagged;
                 }
             }
         }
-        if (!seen_through) continue;
-        if (is_stable(s)) {
-            s.confidence -= config_.free_space_penalty * weight_u_[static_cast<size_t>(u)] *
-                            weight_v_[static_cast<size_t>(v)];
-            ++stats.weakened_free_space;
-        } else {
-            remove_flags_[i] = 1;
-            ++flagged;
-        }
+    });
+    size_t flagged = 0;
+    for (const Counts& counts : block_counts) {
+        flagged += counts.flagged;
+        stats.weakened_free_space += counts.weakened;
     }
     if (flagged == 0) return;
     compact([&](size_t i) { return i >= existing || remove_flags_[i] == 0; }, index_after);

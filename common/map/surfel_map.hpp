@@ -238,6 +238,14 @@ class SurfelMap {
     std::vector<float> weight_v_;
     static constexpr int32_t kNoCandidate = -1;   ///< pixel_candidate_: nothing associated
     static constexpr int32_t kKnownSurface = -2;  ///< pixel_candidate_: see known_surface
+    /// Per pixel of the index image: the surfel shown there, in the camera (depth, projected
+    /// centre) and its world normal, computed once per frame rather than once per window that
+    /// looks at it. depth NaN: no surfel.
+    struct Shown {
+        float depth, u, v;
+        Eigen::Vector3f normal;
+    };
+    std::vector<Shown> shown_;
     std::vector<int32_t> pixel_candidate_;  ///< per pixel: chosen surfel or a k* marker
     std::vector<float> pixel_distance_;     ///< its squared pixel distance to the centre
     std::vector<int32_t> owner_pixel_;   ///< per existing surfel: the pixel that updates it

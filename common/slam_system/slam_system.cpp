@@ -350,21 +350,22 @@ Status SlamSystem::track_static(const Input& in, const Eigen::Isometry3d& guess,
                     cx = static_cast<float>(k.cx), cy = static_cast<float>(k.cy);
         if (d.motion.history_frames > 0 &&
             history_.size() == static_cast<size_t>(d.motion.history_frames)) {
-            motion.history_source = [&, fx, fy, cx, cy]() {
+            motion.history_source = [&, fx, fy, cx, cy](const cv::Mat& needed) {
                 const HistoryFrame& old = history_.front();
                 const Eigen::Isometry3d old_T_current = old.world_T_camera.inverse() * stage1_pose;
                 return dynamics::history_evidence(in.frame.levels[0].vertex, residual,
                                                   old.depth_m, old.rigid,
                                                   old_T_current.cast<float>(), fx, fy, cx, cy,
-                                                  d.motion);
+                                                  d.motion, needed);
             };
         }
         if (d.carry_forward && !previous_motion_.empty() && !lost_) {
-            motion.carried_source = [&, fx, fy, cx, cy]() {
+            motion.carried_source = [&, fx, fy, cx, cy](const cv::Mat& needed) {
                 const Eigen::Isometry3d previous_T_current =
                     world_T_camera_.inverse() * stage1_pose;
                 return dynamics::warp_mask(previous_motion_, in.frame.levels[0].vertex,
-                                           previous_T_current.cast<float>(), fx, fy, cx, cy);
+                                           previous_T_current.cast<float>(), fx, fy, cx, cy,
+                                           needed);
             };
         }
         Result<dynamics::MotionResult> m = dynamics::segment_motion(motion, d.motion);

@@ -335,6 +335,84 @@ TEST(MotionSegmentation, SomethingTheMapLacksButThatStoodStillIsNotAMover) {
     EXPECT_GT(iou(off->mask, s.truth), 0.99);
 }
 
+TEST(MotionSegmentation, ProjectionsMadeOnDemandCoverOnlyThePixelsThatDecide) {
+    // The slowing box of AMoverThatSlowsDown...: its evidence is between the two fractions, so
+    // the previous frame's motion decides it, and only its pixels need warping.
+    Scene s = make_scene(true, 0.15f, 5);
+    for (int y = 40; y < 70; ++y)
+        for (int x = 60; x < 92; ++x) s.residual.at<float>(y, x) = -0.01f;
+    MotionSegmentationConfig c;
+    c.dilate_px = 0;
+    MotionInput in = input_of(s);
+    cv::Mat asked;
+    int calls = 0;
+    in.carried_source = [&](const cv::Mat& needed) {
+        ++calls;
+        asked = needed.clone();
+        cv::Mat carried = s.truth.clone();
+        carried.setTo(0, needed == 0);  // what a projection restricted to `needed` gives
+        return carried;
+    };
+    auto lazy = segment_motion(in, c);
+    ASSERT_TRUE(lazy.is_ok()) << lazy.status().message();
+    EXPECT_EQ(calls, 1);
+    EXPECT_GT(iou(lazy->mask, s.truth), 0.99) << "the carried motion kept the box dynamic";
+    EXPECT_GT(iou(asked != 0, s.truth), 0.99) << "only the undecided box was asked for";
+
+    // A box moving fast is decided by its own residuals: nothing is warped.
+    Scene fast = make_scene(true, 0.15f, 5);
+    MotionInput fast_in = input_of(fast);
+    calls = 0;
+    fast_in.carried_source = in.carried_source;
+    auto decided = segment_motion(fast_in, c);
+    ASSERT_TRUE(decided.is_ok());
+    EXPECT_EQ(calls, 0);
+    EXPECT_GT(iou(decided->mask, fast.truth), 0.99);
+
+    // The history is asked for on the candidates only, and a restricted one decides the same.
+    cv::Mat depth(kH, kW, CV_32F, cv::Scalar(2.f));
+    depth.setTo(1.85f, fast.truth);
+    fast_in.depth_m = depth;
+    fast_in.history_source = [&](const cv::Mat& needed) {
+        asked = needed.clone();
+        return history_evidence(vertex_of(depth), fast.residual, depth, fast.truth,
+                                Eigen::Isometry3f::Identity(), 100.f, 100.f, 80.f, 60.f, c,
+                                needed);
+    };
+    auto still = segment_motion(fast_in, c);
+    ASSERT_TRUE(still.is_ok());
+    EXPECT_EQ(still->mask_pixels, 0);
+    EXPECT_EQ(still->still_segments, 1);
+    EXPECT_GT(iou(asked != 0, fast.truth), 0.99);
+}
+
+TEST(MotionSegmentation, RestrictedProjectionsEqualTheFullOnesWhereNeeded) {
+    cv::Mat depth(kH, kW, CV_32F, cv::Scalar(2.f));
+    const cv::Mat vertex = vertex_of(depth);
+    Eigen::Isometry3f moved = Eigen::Isometry3f::Identity();
+    moved.translation() = Eigen::Vector3f(0.1f, 0.f, 0.f);
+    cv::Mat needed = cv::Mat::zeros(kH, kW, CV_8UC1);
+    needed(cv::Rect(20, 10, 70, 50)).setTo(1);
+    cv::Mat previous = cv::Mat::zeros(kH, kW, CV_8UC1);
+    previous(cv::Rect(40, 20, 60, 60)).setTo(255);
+    const cv::Mat old_depth(kH, kW, CV_32F, cv::Scalar(2.5f));
+    const MotionSegmentationConfig c;
+    const auto same_where_needed = [&](const cv::Mat& full, const cv::Mat& part) {
+        EXPECT_EQ(cv::countNonZero(part & (needed == 0)), 0) << "nothing outside `needed`";
+        cv::Mat full_inside = full.clone();
+        full_inside.setTo(0, needed == 0);
+        EXPECT_EQ(cv::countNonZero(full_inside != part), 0);
+        EXPECT_GT(cv::countNonZero(part), 0);
+    };
+    same_where_needed(warp_mask(previous, vertex, moved, 100.f, 100.f, 80.f, 60.f),
+                      warp_mask(previous, vertex, moved, 100.f, 100.f, 80.f, 60.f, needed));
+    same_where_needed(
+        history_evidence(vertex, cv::Mat(), old_depth, cv::Mat(), moved, 100.f, 100.f, 80.f,
+                         60.f, c),
+        history_evidence(vertex, cv::Mat(), old_depth, cv::Mat(), moved, 100.f, 100.f, 80.f,
+                         60.f, c, needed));
+}
+
 TEST(MotionSegmentation, BadInputNamesTheImage) {
     Scene s = make_scene(true, 0.15f, 6);
     MotionInput in = input_of(s);
