@@ -226,12 +226,17 @@ Result<FusionStats> SurfelMap::fuse(const cv::Mat& vertex_map_cam, const cv::Mat
             }
         }
     });
-    pixel_candidate_.assign(pixels, kNoCandidate);
-    pixel_distance_.assign(pixels, std::numeric_limits<float>::infinity());
+    pixel_candidate_.resize(pixels);
+    pixel_distance_.resize(pixels);
     cv::parallel_for_(cv::Range(0, height), [&](const cv::Range& rows) {
         for (int v = rows.start; v < rows.end; ++v) {
             for (int u = 0; u < width; ++u) {
-                if (!valid_pixel(u, v)) continue;
+                if (!valid_pixel(u, v)) {
+                    const size_t pixel = static_cast<size_t>(v) * width + u;
+                    pixel_candidate_[pixel] = kInvalidPixel;
+                    pixel_distance_[pixel] = std::numeric_limits<float>::infinity();
+                    continue;
+                }
                 const cv::Vec3f& vc = vertex_map_cam.ptr<cv::Vec3f>(v)[u];
                 const cv::Vec3f& nc = normal_map_cam.ptr<cv::Vec3f>(v)[u];
                 const Eigen::Vector3f normal =
@@ -352,7 +357,7 @@ Result<FusionStats> SurfelMap::fuse(const cv::Mat& vertex_map_cam, const cv::Mat
     for (int v = 0; v < height; ++v) {
         for (int u = 0; u < width; ++u) {
             const size_t pixel = static_cast<size_t>(v) * width + u;
-            if (pixel_candidate_[pixel] != kNoCandidate || !valid_pixel(u, v)) continue;
+            if (pixel_candidate_[pixel] != kNoCandidate) continue;
             if (!options.create_surfels) {
                 ++stats.not_created;
                 continue;

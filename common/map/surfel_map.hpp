@@ -238,6 +238,7 @@ class SurfelMap {
     std::vector<float> weight_v_;
     static constexpr int32_t kNoCandidate = -1;   ///< pixel_candidate_: nothing associated
     static constexpr int32_t kKnownSurface = -2;  ///< pixel_candidate_: see known_surface
+    static constexpr int32_t kInvalidPixel = -3;  ///< pixel_candidate_: no observation (masked)
     /// Per pixel of the index image: the surfel shown there, in the camera (depth, projected
     /// centre) and its world normal, computed once per frame rather than once per window that
     /// looks at it. depth NaN: no surfel.
