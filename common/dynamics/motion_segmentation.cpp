@@ -44,34 +44,6 @@ std::string check_lazy(const char* name, const cv::Mat& m, cv::Size size) {
            std::to_string(size.height) + ", got " + describe(m);
 }
 
-/// A vertex of the current camera (z > 0) moved into another camera and projected with the same
-/// intrinsics: false when it lies behind that camera or outside its cols x rows image.
-struct OtherCamera {
-    OtherCamera(const Eigen::Isometry3f& other_T_current, float fx_, float fy_, float cx_,
-                float cy_, cv::Size size)
-        : r(other_T_current.linear()),
-          t(other_T_current.translation()),
-          fx(fx_),
-          fy(fy_),
-          cx(cx_),
-          cy(cy_),
-          cols(size.width),
-          rows(size.height) {}
-    Eigen::Matrix3f r;
-    Eigen::Vector3f t;
-    float fx, fy, cx, cy;
-    int cols, rows;
-    bool project(const cv::Vec3f& v, int* u, int* w, float* z) const {
-        const Eigen::Vector3f q = r * Eigen::Vector3f(v[0], v[1], v[2]) + t;
-        if (!(q.z() > 0.f)) return false;
-        const float inv_z = 1.f / q.z();
-        *u = cvRound(fx * q.x() * inv_z + cx);
-        *w = cvRound(fy * q.y() * inv_z + cy);
-        *z = q.z();
-        return *u >= 0 && *w >= 0 && *u < cols && *w < rows;
-    }
-};
-
 /// Whether a segment or region that is dynamic by its residual is still by its history:
 /// `seen` of its `size` pixels have evidence, `moved` of them were seen through.
 bool still(int size, int seen, int moved, const MotionSegmentationConfig& c) {
@@ -115,6 +87,35 @@ void add_counts(const std::vector<int>& from, std::vector<int>& into) {
     for (size_t i = 0; i < into.size(); ++i) into[i] += from[i];
 }
 
+/// Paints `mask` (CV_8UC1, zeros, the frame's size) with the taken segments (index by
+/// `geometric`, may be empty) and regions (index by `labels`, may be empty), leaving the
+/// excluded pixels out of segments; then grows it by dilate_px.
+void paint(const MotionInput& in, const cv::Mat& labels, const std::vector<uint8_t>& take_segment,
+           const std::vector<uint8_t>& take_region, const MotionSegmentationConfig& c,
+           cv::Mat& mask) {
+    const bool with_segments =
+        !in.geometric.empty() && in.geometric_count > 0 && !take_segment.empty();
+    const bool with_regions = !labels.empty() && !take_region.empty();
+    cv::parallel_for_(cv::Range(0, mask.rows), [&](const cv::Range& block) {
+        for (int y = block.start; y < block.end; ++y) {
+            const int* g = with_segments ? in.geometric.ptr<int>(y) : nullptr;
+            const int* l = with_regions ? labels.ptr<int>(y) : nullptr;
+            const uint8_t* ex = in.excluded.empty() ? nullptr : in.excluded.ptr<uint8_t>(y);
+            uint8_t* m = mask.ptr<uint8_t>(y);
+            for (int x = 0; x < mask.cols; ++x) {
+                const bool segment =
+                    g && take_segment[static_cast<size_t>(g[x])] && !(ex && ex[x]);
+                if (segment || (l && take_region[static_cast<size_t>(l[x])])) m[x] = 255;
+            }
+        }
+    });
+    if (c.dilate_px > 0 && cv::countNonZero(mask) > 0) {
+        const int k = 2 * c.dilate_px + 1;
+        cv::dilate(mask, mask, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k)));
+        if (!in.excluded.empty()) mask.setTo(0, in.excluded);
+    }
+}
+
 }  // namespace
 
 std::string validate(const MotionSegmentationConfig& c) { return params::check(c); }
@@ -127,6 +128,17 @@ Result<MotionResult> segment_motion(const MotionInput& in, const MotionSegmentat
     const int rows = in.residual_m.rows, cols = in.residual_m.cols;
     MotionResult out;
     out.mask = cv::Mat::zeros(rows, cols, CV_8UC1);
+    // 0. Free space of an older frame that this one fills (its pixels count as dynamic).
+    cv::Mat filled;
+    if (c.free_space_filled && in.filled_source) {
+        cv::Mat candidates = cv::Mat::ones(rows, cols, CV_8UC1);
+        if (!in.excluded.empty()) candidates.setTo(0, in.excluded);
+        filled = in.filled_source(candidates);
+        if (std::string e = check_lazy("filled", filled, in.residual_m.size()); !e.empty())
+            return error(StatusCode::kInvalidArgument, "motion segmentation: " + e);
+    }
+    out.filled_pixels = filled.empty() ? 0 : cv::countNonZero(filled);
+    const bool any_filled = out.filled_pixels >= std::min(c.min_segment_pixels, c.min_region_pixels);
 
     const uint8_t* no_mask = nullptr;
     const auto excluded_row = [&](int y) {
@@ -169,8 +181,9 @@ Result<MotionResult> segment_motion(const MotionInput& in, const MotionSegmentat
     }
     out.residual_pixels = spread.residual.count();
     out.clusters = spread.residual.two_means();
-    if (out.residual_pixels == 0 || out.clusters.high - out.clusters.low < c.min_centroid_gap_m)
-        return out;
+    const bool residual_motion =
+        out.residual_pixels > 0 && out.clusters.high - out.clusters.low >= c.min_centroid_gap_m;
+    if (!residual_motion && !any_filled) return out;
 
     // 2. Dynamic pixels: in the high cluster and above the noise at their depth; with them each
     // geometric segment's counts, and the region candidates outside every segment.
@@ -194,15 +207,20 @@ Result<MotionResult> segment_motion(const MotionInput& in, const MotionSegmentat
                 const float* p = photo ? photo->ptr<float>(y) : nullptr;
                 const int* g = with_segments ? in.geometric.ptr<int>(y) : nullptr;
                 const uint8_t* ex = excluded_row(y);
+                const uint8_t* f = filled.empty() ? nullptr : filled.ptr<uint8_t>(y);
                 uint8_t* d = dynamic.ptr<uint8_t>(y);
                 uint8_t* cand = candidate.ptr<uint8_t>(y);
                 for (int x = 0; x < cols; ++x) {
                     uint8_t v = 0;
                     const bool out_of_play = ex && ex[x];
-                    if (!out_of_play && std::isfinite(r[x])) {
+                    const bool fills = !out_of_play && f && f[x];
+                    if (fills) {
+                        v = 255;
+                        ++acc.dynamic;
+                    } else if (!out_of_play && std::isfinite(r[x])) {
                         const float a = std::min(std::fabs(r[x]), c.max_residual_m);
                         const float floor_m = c.min_residual_m + c.min_residual_per_m2 * z[x] * z[x];
-                        if (a > out.clusters.threshold && a > floor_m) {
+                        if (residual_motion && a > out.clusters.threshold && a > floor_m) {
                             v = 255;
                             ++acc.dynamic;
                         } else if (p && std::isfinite(p[x]) && p[x] > out.photometric_threshold) {
@@ -216,7 +234,7 @@ Result<MotionResult> segment_motion(const MotionInput& in, const MotionSegmentat
                     cand[x] = (v != 0 && s == 0) ? 255 : 0;
                     if (s == 0 || out_of_play) continue;
                     ++acc.size[s];
-                    acc.with_residual[s] += std::isfinite(r[x]) ? 1 : 0;
+                    acc.with_residual[s] += (fills || std::isfinite(r[x])) ? 1 : 0;
                     acc.dyn[s] += (v == 255 || v == 128) ? 1 : 0;
                     acc.geometric_dyn[s] += v == 255 ? 1 : 0;
                 }
@@ -406,95 +424,9 @@ Result<MotionResult> segment_motion(const MotionInput& in, const MotionSegmentat
         take_region[k] = 1;
         ++out.segments;
     }
-    cv::parallel_for_(cv::Range(0, rows), [&](const cv::Range& block) {
-        for (int y = block.start; y < block.end; ++y) {
-            const int* g = with_segments ? in.geometric.ptr<int>(y) : nullptr;
-            const int* l = labels.ptr<int>(y);
-            const uint8_t* ex = excluded_row(y);
-            uint8_t* m = out.mask.ptr<uint8_t>(y);
-            for (int x = 0; x < cols; ++x) {
-                const bool segment =
-                    g && take_segment[static_cast<size_t>(g[x])] && !(ex && ex[x]);
-                if (segment || take_region[static_cast<size_t>(l[x])]) m[x] = 255;
-            }
-        }
-    });
-    if (c.dilate_px > 0 && out.segments > 0) {
-        const int k = 2 * c.dilate_px + 1;
-        cv::dilate(out.mask, out.mask, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k)));
-        if (!in.excluded.empty()) out.mask.setTo(0, in.excluded);
-    }
+    paint(in, labels, take_segment, take_region, c, out.mask);
     out.mask_pixels = cv::countNonZero(out.mask);
     out.moving = out.mask_pixels > 0;
-    return out;
-}
-
-cv::Mat warp_mask(const cv::Mat& previous, const cv::Mat& vertex,
-                  const Eigen::Isometry3f& previous_T_current, float fx, float fy, float cx,
-                  float cy, const cv::Mat& needed) {
-    cv::Mat out = cv::Mat::zeros(vertex.size(), CV_8UC1);
-    if (previous.empty() || previous.size() != vertex.size()) return out;
-    const bool only_needed =
-        !needed.empty() && needed.type() == CV_8UC1 && needed.size() == vertex.size();
-    const OtherCamera previous_camera(previous_T_current, fx, fy, cx, cy, previous.size());
-    cv::parallel_for_(cv::Range(0, vertex.rows), [&](const cv::Range& rows) {
-        for (int y = rows.start; y < rows.end; ++y) {
-            const cv::Vec3f* v = vertex.ptr<cv::Vec3f>(y);
-            const uint8_t* n = only_needed ? needed.ptr<uint8_t>(y) : nullptr;
-            uint8_t* o = out.ptr<uint8_t>(y);
-            for (int x = 0; x < vertex.cols; ++x) {
-                if (n && !n[x]) continue;
-                if (!(v[x][2] > 0.f)) {
-                    o[x] = previous.at<uint8_t>(y, x);
-                    continue;
-                }
-                int u = 0, w = 0;
-                float z = 0.f;
-                if (previous_camera.project(v[x], &u, &w, &z)) o[x] = previous.at<uint8_t>(w, u);
-            }
-        }
-    });
-    return out;
-}
-
-cv::Mat history_evidence(const cv::Mat& vertex, const cv::Mat& residual_m, const cv::Mat& old_depth,
-                         const cv::Mat& old_rigid, const Eigen::Isometry3f& old_T_current, float fx,
-                         float fy, float cx, float cy, const MotionSegmentationConfig& c,
-                         const cv::Mat& needed) {
-    cv::Mat out = cv::Mat::zeros(vertex.size(), CV_8UC1);
-    if (old_depth.empty() || old_depth.type() != CV_32F || vertex.type() != CV_32FC3) return out;
-    const bool only_needed =
-        !needed.empty() && needed.type() == CV_8UC1 && needed.size() == vertex.size();
-    const bool with_residual =
-        !residual_m.empty() && residual_m.type() == CV_32F && residual_m.size() == vertex.size();
-    const bool with_rigid =
-        !old_rigid.empty() && old_rigid.type() == CV_8UC1 && old_rigid.size() == old_depth.size();
-    const OtherCamera old_camera(old_T_current, fx, fy, cx, cy, old_depth.size());
-    cv::parallel_for_(cv::Range(0, vertex.rows), [&](const cv::Range& rows) {
-        for (int y = rows.start; y < rows.end; ++y) {
-            const cv::Vec3f* v = vertex.ptr<cv::Vec3f>(y);
-            const float* res = with_residual ? residual_m.ptr<float>(y) : nullptr;
-            const uint8_t* n = only_needed ? needed.ptr<uint8_t>(y) : nullptr;
-            uint8_t* o = out.ptr<uint8_t>(y);
-            for (int x = 0; x < vertex.cols; ++x) {
-                if (n && !n[x]) continue;
-                int u = 0, w = 0;
-                float z = 0.f;
-                if (!(v[x][2] > 0.f) || !old_camera.project(v[x], &u, &w, &z)) continue;
-                const float seen = old_depth.at<float>(w, u);
-                if (!(seen > 0.f)) continue;
-                const float split =
-                    (res && std::isfinite(res[x]))
-                        ? std::max(c.min_residual_m, c.history_split * std::fabs(res[x]))
-                        : c.min_residual_m + c.min_residual_per_m2 * z * z;
-                if (seen > z + split) {
-                    o[x] = kMoved;
-                } else if (seen >= z - split && (!with_rigid || old_rigid.at<uint8_t>(w, u))) {
-                    o[x] = kStill;
-                }
-            }
-        }
-    });
     return out;
 }
 

@@ -25,6 +25,7 @@
 #include <string>
 
 #include "core/status.hpp"
+#include "dynamics/projections.hpp"
 #include "dynamics/two_means.hpp"
 #include "params/slam_params.hpp"
 
@@ -67,10 +68,11 @@ struct MotionInput {
     /// Outside `needed` what they return is not read.
     std::function<cv::Mat(const cv::Mat& needed)> carried_source;
     std::function<cv::Mat(const cv::Mat& needed)> history_source;
+    /// Optional: an older frame's free space that the current frame fills (free_space_filled;
+    /// CV_8UC1, non-zero = filled), called on every frame with the pixels that can count (those
+    /// not excluded). Filled pixels are dynamic, whatever their residual.
+    std::function<cv::Mat(const cv::Mat& candidates)> filled_source;
 };
-
-/// history_evidence's codes.
-enum HistoryEvidence : uint8_t { kNoEvidence = 0, kStill = 1, kMoved = 2 };
 
 struct MotionResult {
     cv::Mat mask;             ///< CV_8UC1, 255 = dynamic (unknown mover)
@@ -81,6 +83,7 @@ struct MotionResult {
     int segments = 0;         ///< geometric segments (or regions) made dynamic
     int mask_pixels = 0;      ///< non-zero pixels of `mask`
     int still_segments = 0;   ///< segments or regions dynamic by residual, but still by history
+    int filled_pixels = 0;    ///< pixels that fill an older frame's free space (dynamic)
     /// Intensity change that counted as evidence this frame (0..255; 0 when the photometric
     /// evidence was off or had no pixels): max(min_photometric, photometric_spread_factor x the
     /// median intensity residual).
@@ -90,33 +93,5 @@ struct MotionResult {
 /// Segments one frame. kInvalidArgument naming the input whose type or size is wrong.
 Result<MotionResult> segment_motion(const MotionInput& input,
                                     const MotionSegmentationConfig& config);
-
-/// `previous` (CV_8UC1 mask of the previous frame) as seen from the current frame: each current
-/// pixel with a vertex (CV_32FC3, current camera frame, metres; z <= 0 invalid) is moved into the
-/// previous camera by previous_T_current and looks the mask up at its projection (intrinsics fx,
-/// fy, cx, cy of both frames). Pixels without a vertex take the previous mask at the same pixel.
-/// With `needed` (CV_8UC1 of the vertex map's size) only its non-zero pixels are looked up,
-/// the rest are 0.
-cv::Mat warp_mask(const cv::Mat& previous, const cv::Mat& vertex,
-                  const Eigen::Isometry3f& previous_T_current, float fx, float fy, float cx,
-                  float cy, const cv::Mat& needed = cv::Mat());
-
-/// Free-space evidence against an older frame, per pixel of the current one (CV_8UC1): each
-/// current vertex (CV_32FC3, current camera frame, metres; z <= 0 invalid) is moved into the old
-/// camera by old_T_current and projected (intrinsics of both frames); the old depth there
-/// (CV_32F, metres, 0 = none), against the point's own depth in the old camera, gives kMoved when
-/// farther by more than history_split |residual| (at least min_residual_m; where `residual_m`
-/// (CV_32F, may be empty) has no finite value, the noise floor min_residual_m +
-/// min_residual_per_m2 z^2): the old frame saw through the point, towards the surface the map
-/// has behind it; kStill when within that and the old frame left the pixel out as a rigid
-/// instance (`old_rigid`, CV_8UC1; empty: wherever it was): something a detection kept out of
-/// the map, which stood still; else kNoEvidence (nearer: occluded then; missing; outside the old
-/// frame; still, but not an instance then, such as a mover that pauses, which stays a mover).
-/// With `needed` (CV_8UC1 of the vertex map's size) only its non-zero pixels are evaluated, the
-/// rest are kNoEvidence.
-cv::Mat history_evidence(const cv::Mat& vertex, const cv::Mat& residual_m, const cv::Mat& old_depth,
-                         const cv::Mat& old_rigid, const Eigen::Isometry3f& old_T_current, float fx,
-                         float fy, float cx, float cy, const MotionSegmentationConfig& config,
-                         const cv::Mat& needed = cv::Mat());
 
 }  // namespace df::dynamics

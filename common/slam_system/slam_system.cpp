@@ -4,6 +4,7 @@
 #include <chrono>
 #include <opencv2/imgproc.hpp>
 
+#include "slam/depth_maps.hpp"
 #include "slam/pose.hpp"
 
 namespace df::slam {
@@ -205,8 +206,14 @@ void SlamSystem::remember(const Input& in) {
     if (lost_ || frames <= 0) {
         history_.clear();
     } else {
+        const float far = config_.dynamics.motion.seen_through_max_depth_m;
+        cv::Mat far_depth;
+        if (config_.dynamics.motion.free_space_filled && far > config_.preprocess.max_depth_m &&
+            !in.image.depth.empty())
+            far_depth = slam::depth_to_metres(in.image.depth, in.image.depth_units_per_m,
+                                              config_.preprocess.min_depth_m, far);
         history_.push_back(
-            {in.frame.levels[0].depth_m,
+            {in.frame.levels[0].depth_m, far_depth,
              dynamics::mask_of({in.instance_ids, in.segments.objects.instances},
                                {dynamics::ObjectKind::kRigid}, in.instance_ids.size()),
              world_T_camera_});
@@ -357,6 +364,19 @@ Status SlamSystem::track_static(const Input& in, const Eigen::Isometry3d& guess,
                                                   old.depth_m, old.rigid,
                                                   old_T_current.cast<float>(), fx, fy, cx, cy,
                                                   d.motion, needed);
+            };
+        }
+        // Free space an older frame saw that this one fills: the oldest frame kept (in a
+        // run's first frames, fewer back than history_frames).
+        if (!history_.empty()) {
+            motion.filled_source = [&, fx, fy, cx, cy](const cv::Mat& candidates) {
+                const HistoryFrame& old = history_.front();
+                const Eigen::Isometry3d old_T_current = old.world_T_camera.inverse() * stage1_pose;
+                return dynamics::free_space_filled(in.frame.levels[0].vertex,
+                                                   old.far_depth_m.empty() ? old.depth_m
+                                                                           : old.far_depth_m,
+                                                   old_T_current.cast<float>(), fx, fy, cx, cy,
+                                                   d.motion, candidates);
             };
         }
         if (d.carry_forward && !previous_motion_.empty() && !lost_) {

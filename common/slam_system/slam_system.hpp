@@ -192,6 +192,9 @@ class SlamSystem {
     /// One tracked frame as motion segmentation's free-space evidence remembers it.
     struct HistoryFrame {
         cv::Mat depth_m;  ///< level 0
+        /// level 0 up to motion.seen_through_max_depth_m (beyond preprocessing's cut): what the
+        /// frame saw far away still tells free space (empty: depth_m is that)
+        cv::Mat far_depth_m;
         cv::Mat rigid;    ///< its rigid instances (object maps' claims included)
         Eigen::Isometry3d world_T_camera;
     };

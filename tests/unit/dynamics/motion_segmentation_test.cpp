@@ -121,11 +121,16 @@ TEST(MotionSegmentation, ExcludedPixelsAreNeitherClusteredNorFlagged) {
     EXPECT_EQ(cv::countNonZero(r->mask & s.truth), 0);
 }
 
-TEST(MotionSegmentation, AMoverThatSlowsDownStaysDynamicWhenCarriedForward) {
-    // The box barely moves this frame: only a fifth of it is above the noise floor.
+/// The box barely moves this frame: only a fifth of it is above the noise floor.
+Scene slowing_box() {
     Scene s = make_scene(true, 0.15f, 5);
     for (int y = 40; y < 70; ++y)
         for (int x = 60; x < 92; ++x) s.residual.at<float>(y, x) = -0.01f;
+    return s;
+}
+
+TEST(MotionSegmentation, AMoverThatSlowsDownStaysDynamicWhenCarriedForward) {
+    const Scene s = slowing_box();
     MotionSegmentationConfig c;
     c.dilate_px = 0;
     auto alone = segment_motion(input_of(s), c);
@@ -284,6 +289,85 @@ TEST(MotionSegmentation, HistoryEvidenceTellsSeenThroughFromSeenThereFromOcclude
     EXPECT_EQ(count(0.f, kNoEvidence), kW * kH);   // no old depth
 }
 
+TEST(MotionSegmentation, FreeSpaceFilledIsWhereTheOldFrameSawWellBeyondThePoint) {
+    // The current frame sees a wall at 2 m, the camera has not moved.
+    const cv::Mat depth(kH, kW, CV_32F, cv::Scalar(2.f));
+    const Eigen::Isometry3f same = Eigen::Isometry3f::Identity();
+    const MotionSegmentationConfig c;  // margin 0.05 m + 0.005 z^2: 0.07 m at 2 m
+    const auto filled = [&](const cv::Mat& old_depth) {
+        return cv::countNonZero(
+            free_space_filled(vertex_of(depth), old_depth, same, 100.f, 100.f, 80.f, 60.f, c));
+    };
+    const int interior = (kW - 2) * (kH - 2);  // the 3x3 neighbourhood must lie in the image
+    EXPECT_EQ(filled(cv::Mat(kH, kW, CV_32F, cv::Scalar(2.5f))), interior);  // saw 0.5 m farther
+    EXPECT_EQ(filled(cv::Mat(kH, kW, CV_32F, cv::Scalar(2.05f))), 0);  // within the margin
+    EXPECT_EQ(filled(cv::Mat(kH, kW, CV_32F, cv::Scalar(1.5f))), 0);   // occluded then
+    EXPECT_EQ(filled(cv::Mat(kH, kW, CV_32F, cv::Scalar(0.f))), 0);    // no old depth
+    // A depth edge one pixel off (the old frame's far side starts a column early): the pixels
+    // next to the edge have a near old neighbour, so they do not count.
+    cv::Mat edge(kH, kW, CV_32F, cv::Scalar(2.f));
+    edge.colRange(80, kW).setTo(3.f);
+    cv::Mat current(kH, kW, CV_32F, cv::Scalar(2.f));
+    current.colRange(81, kW).setTo(3.f);
+    EXPECT_EQ(cv::countNonZero(free_space_filled(vertex_of(current), edge, same, 100.f, 100.f,
+                                                 80.f, 60.f, c)),
+              0);
+    // Only the candidates are tested.
+    cv::Mat candidates = cv::Mat::zeros(kH, kW, CV_8UC1);
+    candidates(cv::Rect(10, 10, 20, 20)).setTo(1);
+    EXPECT_EQ(cv::countNonZero(free_space_filled(vertex_of(depth),
+                                                 cv::Mat(kH, kW, CV_32F, cv::Scalar(2.5f)), same,
+                                                 100.f, 100.f, 80.f, 60.f, c, candidates)),
+              400);
+}
+
+TEST(MotionSegmentation, AMoverTheMapFollowedIsFoundWhereItFillsAnOldFramesFreeSpace) {
+    // The box came 0.3 m nearer than an older frame saw it, but the static map took it in and
+    // followed it: its residual is noise, like the wall's.
+    const Scene s = make_scene(false, 0.f, 11);
+    cv::Mat depth(kH, kW, CV_32F, cv::Scalar(2.f));
+    const cv::Rect box(60, 40, 40, 30);
+    depth(box).setTo(1.5f);
+    cv::Mat old_depth = depth.clone();
+    old_depth(box).setTo(1.8f);
+    cv::Mat truth = cv::Mat::zeros(kH, kW, CV_8UC1);
+    truth(box).setTo(255);
+    MotionSegmentationConfig c;
+    c.dilate_px = 0;
+    c.free_space_filled = true;  // off by default (see slam.proto)
+    MotionInput in = input_of(s);
+    in.depth_m = depth;
+    auto alone = segment_motion(in, c);
+    ASSERT_TRUE(alone.is_ok());
+    EXPECT_EQ(alone->mask_pixels, 0) << "its residual alone says nothing";
+    const Eigen::Isometry3f same = Eigen::Isometry3f::Identity();
+    in.filled_source = [&](const cv::Mat& candidates) {
+        return free_space_filled(vertex_of(depth), old_depth, same, 100.f, 100.f, 80.f, 60.f, c,
+                                 candidates);
+    };
+    auto found = segment_motion(in, c);
+    ASSERT_TRUE(found.is_ok()) << found.status().message();
+    EXPECT_GT(found->filled_pixels, 0);
+    EXPECT_GT(iou(found->mask, truth), 0.99) << "the whole segment, grown from its filled pixels";
+    // The same scene with the older frame seeing it where it is now: nothing.
+    in.filled_source = [&](const cv::Mat& candidates) {
+        return free_space_filled(vertex_of(depth), depth, same, 100.f, 100.f, 80.f, 60.f, c,
+                                 candidates);
+    };
+    auto still_box = segment_motion(in, c);
+    ASSERT_TRUE(still_box.is_ok());
+    EXPECT_EQ(still_box->mask_pixels, 0);
+    // Off by the configuration.
+    c.free_space_filled = false;
+    in.filled_source = [&](const cv::Mat& candidates) {
+        return free_space_filled(vertex_of(depth), old_depth, same, 100.f, 100.f, 80.f, 60.f, c,
+                                 candidates);
+    };
+    auto off = segment_motion(in, c);
+    ASSERT_TRUE(off.is_ok());
+    EXPECT_EQ(off->mask_pixels, 0);
+}
+
 TEST(MotionSegmentation, SomethingTheMapLacksButThatStoodStillIsNotAMover) {
     // The box of the scene stands 0.15 m in front of the wall the static map shows behind it
     // (a chair a flickering detection kept out of the map): dynamic by its residual.
@@ -336,11 +420,9 @@ TEST(MotionSegmentation, SomethingTheMapLacksButThatStoodStillIsNotAMover) {
 }
 
 TEST(MotionSegmentation, ProjectionsMadeOnDemandCoverOnlyThePixelsThatDecide) {
-    // The slowing box of AMoverThatSlowsDown...: its evidence is between the two fractions, so
-    // the previous frame's motion decides it, and only its pixels need warping.
-    Scene s = make_scene(true, 0.15f, 5);
-    for (int y = 40; y < 70; ++y)
-        for (int x = 60; x < 92; ++x) s.residual.at<float>(y, x) = -0.01f;
+    // The slowing box: its evidence is between the two fractions, so the previous frame's
+    // motion decides it, and only its pixels need warping.
+    const Scene s = slowing_box();
     MotionSegmentationConfig c;
     c.dilate_px = 0;
     MotionInput in = input_of(s);
