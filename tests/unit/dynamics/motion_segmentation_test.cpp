@@ -340,29 +340,26 @@ TEST(MotionSegmentation, AMoverTheMapFollowedIsFoundWhereItFillsAnOldFramesFreeS
     auto alone = segment_motion(in, c);
     ASSERT_TRUE(alone.is_ok());
     EXPECT_EQ(alone->mask_pixels, 0) << "its residual alone says nothing";
-    const Eigen::Isometry3f same = Eigen::Isometry3f::Identity();
-    in.filled_source = [&](const cv::Mat& candidates) {
-        return free_space_filled(vertex_of(depth), old_depth, same, 100.f, 100.f, 80.f, 60.f, c,
-                                 candidates);
+    // The older frame's free space as SLAM would make it, from the old depth `seen`.
+    const auto older_frame = [&](const cv::Mat& seen) {
+        return [&, seen](const cv::Mat& candidates) {
+            return free_space_filled(vertex_of(depth), seen, Eigen::Isometry3f::Identity(),
+                                     100.f, 100.f, 80.f, 60.f, c, candidates);
+        };
     };
+    in.filled_source = older_frame(old_depth);
     auto found = segment_motion(in, c);
     ASSERT_TRUE(found.is_ok()) << found.status().message();
     EXPECT_GT(found->filled_pixels, 0);
     EXPECT_GT(iou(found->mask, truth), 0.99) << "the whole segment, grown from its filled pixels";
     // The same scene with the older frame seeing it where it is now: nothing.
-    in.filled_source = [&](const cv::Mat& candidates) {
-        return free_space_filled(vertex_of(depth), depth, same, 100.f, 100.f, 80.f, 60.f, c,
-                                 candidates);
-    };
+    in.filled_source = older_frame(depth);
     auto still_box = segment_motion(in, c);
     ASSERT_TRUE(still_box.is_ok());
     EXPECT_EQ(still_box->mask_pixels, 0);
     // Off by the configuration.
     c.free_space_filled = false;
-    in.filled_source = [&](const cv::Mat& candidates) {
-        return free_space_filled(vertex_of(depth), old_depth, same, 100.f, 100.f, 80.f, 60.f, c,
-                                 candidates);
-    };
+    in.filled_source = older_frame(old_depth);
     auto off = segment_motion(in, c);
     ASSERT_TRUE(off.is_ok());
     EXPECT_EQ(off->mask_pixels, 0);
