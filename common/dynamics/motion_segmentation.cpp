@@ -87,35 +87,6 @@ void add_counts(const std::vector<int>& from, std::vector<int>& into) {
     for (size_t i = 0; i < into.size(); ++i) into[i] += from[i];
 }
 
-/// Paints `mask` (CV_8UC1, zeros, the frame's size) with the taken segments (index by
-/// `geometric`, may be empty) and regions (index by `labels`, may be empty), leaving the
-/// excluded pixels out of segments; then grows it by dilate_px.
-void paint(const MotionInput& in, const cv::Mat& labels, const std::vector<uint8_t>& take_segment,
-           const std::vector<uint8_t>& take_region, const MotionSegmentationConfig& c,
-           cv::Mat& mask) {
-    const bool with_segments =
-        !in.geometric.empty() && in.geometric_count > 0 && !take_segment.empty();
-    const bool with_regions = !labels.empty() && !take_region.empty();
-    cv::parallel_for_(cv::Range(0, mask.rows), [&](const cv::Range& block) {
-        for (int y = block.start; y < block.end; ++y) {
-            const int* g = with_segments ? in.geometric.ptr<int>(y) : nullptr;
-            const int* l = with_regions ? labels.ptr<int>(y) : nullptr;
-            const uint8_t* ex = in.excluded.empty() ? nullptr : in.excluded.ptr<uint8_t>(y);
-            uint8_t* m = mask.ptr<uint8_t>(y);
-            for (int x = 0; x < mask.cols; ++x) {
-                const bool segment =
-                    g && take_segment[static_cast<size_t>(g[x])] && !(ex && ex[x]);
-                if (segment || (l && take_region[static_cast<size_t>(l[x])])) m[x] = 255;
-            }
-        }
-    });
-    if (c.dilate_px > 0 && cv::countNonZero(mask) > 0) {
-        const int k = 2 * c.dilate_px + 1;
-        cv::dilate(mask, mask, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k)));
-        if (!in.excluded.empty()) mask.setTo(0, in.excluded);
-    }
-}
-
 }  // namespace
 
 std::string validate(const MotionSegmentationConfig& c) { return params::check(c); }
@@ -424,7 +395,24 @@ Result<MotionResult> segment_motion(const MotionInput& in, const MotionSegmentat
         take_region[k] = 1;
         ++out.segments;
     }
-    paint(in, labels, take_segment, take_region, c, out.mask);
+    cv::parallel_for_(cv::Range(0, rows), [&](const cv::Range& block) {
+        for (int y = block.start; y < block.end; ++y) {
+            const int* g = with_segments ? in.geometric.ptr<int>(y) : nullptr;
+            const int* l = labels.ptr<int>(y);
+            const uint8_t* ex = excluded_row(y);
+            uint8_t* m = out.mask.ptr<uint8_t>(y);
+            for (int x = 0; x < cols; ++x) {
+                const bool segment =
+                    g && take_segment[static_cast<size_t>(g[x])] && !(ex && ex[x]);
+                if (segment || take_region[static_cast<size_t>(l[x])]) m[x] = 255;
+            }
+        }
+    });
+    if (c.dilate_px > 0 && out.segments > 0) {
+        const int k = 2 * c.dilate_px + 1;
+        cv::dilate(out.mask, out.mask, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k)));
+        if (!in.excluded.empty()) out.mask.setTo(0, in.excluded);
+    }
     out.mask_pixels = cv::countNonZero(out.mask);
     out.moving = out.mask_pixels > 0;
     return out;

@@ -368,7 +368,7 @@ Status SlamSystem::track_static(const Input& in, const Eigen::Isometry3d& guess,
         }
         // Free space an older frame saw that this one fills: the oldest frame kept (in a
         // run's first frames, fewer back than history_frames).
-        if (!history_.empty()) {
+        if (d.motion.free_space_filled && !history_.empty()) {
             motion.filled_source = [&, fx, fy, cx, cy](const cv::Mat& candidates) {
                 const HistoryFrame& old = history_.front();
                 const Eigen::Isometry3d old_T_current = old.world_T_camera.inverse() * stage1_pose;
