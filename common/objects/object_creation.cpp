@@ -183,7 +183,7 @@ Status ObjectMaps::relocalise(const slam::Frame& frame, const cv::Mat& pixels,
             ids.setTo(o.id, pixels);
             cv::Rect roi;
             auto result = track_from(frame, o, moved, world_T_camera, box, ids, &roi,
-                                     map_time);
+                                     map_time, /*rough=*/true);
             if (!result) return result.status();
             if (result->state != slam::TrackingState::kOk) {
                 // The centroids of the whole model and of its visible part differ, so the
@@ -191,7 +191,8 @@ Status ObjectMaps::relocalise(const slam::Frame& frame, const cv::Mat& pixels,
                 // then pass every check (how far it moves included).
                 const Eigen::Isometry3d again =
                     slam::orthonormalized(world_T_camera * result->estimate.inverse());
-                result = track_from(frame, o, again, world_T_camera, box, ids, &roi, map_time);
+                result = track_from(frame, o, again, world_T_camera, box, ids, &roi, map_time,
+                                    /*rough=*/true);
                 if (!result) return result.status();
             }
             if (result->state != slam::TrackingState::kOk) continue;

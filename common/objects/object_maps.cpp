@@ -79,6 +79,9 @@ ObjectMaps::ObjectMaps(const ObjectMapsConfig& config, const slam::TrackingConfi
     : config_(config), tracking_(tracking), map_config_(map), prediction_(prediction) {
     tracking_.min_inliers = config.min_inliers;
     tracking_.inlier_residual_m = config.inlier_residual_m;
+    tracking_.min_level_correspondences = config.min_level_correspondences;
+    rough_tracking_ = tracking_;
+    rough_tracking_.min_level_correspondences = 0;
     map_config_.max_surfels = config.max_surfels;
     map_config_.unstable_max_unseen_frames = config.unstable_max_unseen_frames;
     // Every surfel of a small map counts: the object's model is rendered whole.
@@ -218,7 +221,7 @@ Result<slam::TrackingResult> ObjectMaps::track_from(const slam::Frame& frame, Ob
                                                     const Eigen::Isometry3d& world_T_camera,
                                                     const cv::Rect& instance_box,
                                                     const cv::Mat& object_ids, cv::Rect* roi,
-                                                    int map_time) {
+                                                    int map_time, bool rough) {
     const Eigen::Isometry3d initial =
         slam::orthonormalized(world_T_object_guess.inverse() * world_T_camera);
     const slam::FrameLevel& level = frame.levels[0];
@@ -230,7 +233,7 @@ Result<slam::TrackingResult> ObjectMaps::track_from(const slam::Frame& frame, Ob
     // out of the first rendering's part of the frame).
     DF_RETURN_IF_ERROR(o.map.predict_model(part, initial, map_time, prediction_));
     const cv::Mat mask = all_but(object_ids(*roi), static_cast<uint16_t>(o.id));
-    return o.map.track(part, initial, mask, tracking_);
+    return o.map.track(part, initial, mask, rough ? rough_tracking_ : tracking_);
 }
 
 Status ObjectMaps::track(const slam::Frame& frame, const dynamics::LabelImage& instances,
@@ -247,9 +250,12 @@ Status ObjectMaps::track(const slam::Frame& frame, const dynamics::LabelImage& i
         auto result = track_from(frame, o, guess, world_T_camera, instance_box, of->object_ids,
                                  &of->rois[k], map_time);
         if (!result) return result.status();
-        if (result->state != slam::TrackingState::kOk && !instance.empty()) {
-            // The detector sees it where the guess does not put it (it turned or sped up):
-            // start again with the map's visible centroid moved onto the instance's.
+        // Not tracked on the previous frame, its guess is dead reckoning over the gap.
+        const bool reacquiring = o.trajectory.empty() || o.trajectory.back().stamp_s != previous_stamp_s_;
+        if (!instance.empty() && (result->state != slam::TrackingState::kOk || reacquiring)) {
+            // The detector sees it where the guess does not put it (it turned or sped up), or
+            // the guess is old: start again with the map's visible centroid moved onto the
+            // instance's, and keep what agrees with more of the frame.
             Eigen::Vector3d seen, rendered;
             cv::Mat model_valid;
             cv::extractChannel(o.map.model().vertex, model_valid, 2);
@@ -260,10 +266,16 @@ Status ObjectMaps::track(const slam::Frame& frame, const dynamics::LabelImage& i
                 const Eigen::Vector3d shift = world_T_camera.linear() * (seen - rendered);
                 Eigen::Isometry3d moved = guess;
                 moved.pretranslate(shift);
+                cv::Rect retry_roi;
                 auto retry = track_from(frame, o, moved, world_T_camera, instance_box,
-                                        of->object_ids, &of->rois[k], map_time);
+                                        of->object_ids, &retry_roi, map_time, /*rough=*/true);
                 if (!retry) return retry.status();
-                if (retry->state == slam::TrackingState::kOk) result = retry;
+                if (retry->state == slam::TrackingState::kOk &&
+                    (result->state != slam::TrackingState::kOk ||
+                     retry->inliers > result->inliers)) {
+                    result = retry;
+                    of->rois[k] = retry_roi;
+                }
             }
         }
         r.tracking = *result;
@@ -289,6 +301,7 @@ Status ObjectMaps::track(const slam::Frame& frame, const dynamics::LabelImage& i
         r.tracked = true;
         r.world_T_object = world_T_object;
     }
+    previous_stamp_s_ = io::stamped_pose(frame.sensor_ns, Eigen::Isometry3d::Identity()).stamp_s;
     return Status::ok();
 }
 

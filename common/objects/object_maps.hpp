@@ -177,12 +177,14 @@ class ObjectMaps {
 
     int live_count() const;
     /// Tracks `o` in its part of the frame (its rendering at the guess, and `instance_box`)
-    /// starting from world_T_object_guess; the part used goes to *roi.
+    /// starting from world_T_object_guess; the part used goes to *roi. A `rough` guess (a
+    /// centroid shift, a relocalisation) lets every pyramid level step, whatever its
+    /// correspondences: the coarse levels' wide basin is what such a guess needs.
     Result<slam::TrackingResult> track_from(const slam::Frame& frame, ObjectMap& o,
                                             const Eigen::Isometry3d& world_T_object_guess,
                                             const Eigen::Isometry3d& world_T_camera,
                                             const cv::Rect& instance_box, const cv::Mat& object_ids,
-                                            cv::Rect* roi, int map_time);
+                                            cv::Rect* roi, int map_time, bool rough = false);
     /// A map that lost its object (retired, or live and claiming nothing this frame) within
     /// relocalise_max_distance_m of `centroid` that, moved so the centroids agree, tracks onto
     /// `pixels` (CV_8UC1 of level 0): *found is it and *world_T_object its tracked pose; else
@@ -211,12 +213,16 @@ class ObjectMaps {
 
     ObjectMapsConfig config_;
     slam::TrackingConfig tracking_;
+    slam::TrackingConfig rough_tracking_;  ///< tracking_ with every level stepping
     map::SurfelMapConfig map_config_;
     map::PredictionConfig prediction_;
     std::vector<ObjectMap> objects_;
     std::vector<Candidate> candidates_;
     ObjectCounters counters_;
     int next_id_ = 1;
+    /// The stamp of the frame track() saw last (a map whose trajectory ends before it is
+    /// re-acquired); not in a checkpoint: after a restore every map counts as re-acquired once.
+    double previous_stamp_s_ = -1.0;
 };
 
 }  // namespace df::objects

@@ -278,6 +278,7 @@ Result<TrackingResult> track(const Frame& frame, const ModelView& model,
                 figures.condition = condition_of(a);
             }
             if (iterations == 0 || icp.used + rgb.used < kMinRowsForStep) break;
+            if (it == 0 && icp.used < config.min_level_correspondences) break;
             Vector6d xi = a.ldlt().solve(-b);
             if (!xi.allFinite()) break;
             xi *= step_scale(xi, config);

@@ -334,7 +334,7 @@ TEST(MotionSegmentation, AMoverTheMapFollowedIsFoundWhereItFillsAnOldFramesFreeS
     truth(box).setTo(255);
     MotionSegmentationConfig c;
     c.dilate_px = 0;
-    c.free_space_filled = true;  // off by default (see slam.proto)
+    ASSERT_TRUE(c.free_space_filled) << "on by default";
     MotionInput in = input_of(s);
     in.depth_m = depth;
     auto alone = segment_motion(in, c);
