@@ -85,6 +85,7 @@ FrameSegments downscale(const FrameSegments& s, int factor) {
     if (factor <= 1) return s;
     FrameSegments out;
     out.geometric_count = s.geometric_count;
+    out.detections_age = s.detections_age;
     const auto half = [factor](const cv::Mat& m, cv::Mat* o) {
         if (m.empty()) return;
         cv::resize(m, *o, cv::Size(m.cols / factor, m.rows / factor), 0, 0, cv::INTER_NEAREST);

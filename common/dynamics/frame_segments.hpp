@@ -25,6 +25,7 @@ struct InstanceInfo {
     ObjectKind kind = ObjectKind::kUnknown;
     cv::Rect2f box;       ///< detection box in the label image's pixels (empty when none)
     int pixels = 0;       ///< pixels with this id in the label image
+    int age = 0;          ///< frames since the detector saw it (> 0: carried forward)
 };
 
 /// A label image with its table.
@@ -44,6 +45,11 @@ struct FrameSegments {
     /// Geometric segments: CV_32SC1, 1..geometric_count, 0 = none (edge, invalid); may be empty.
     cv::Mat geometric;
     int geometric_count = 0;
+    /// How old `objects`' detections are, in frames: 0 this frame's own (or ground truth), k > 0
+    /// an earlier frame's boxes (reused), -1 none (no detector answered for this frame). A
+    /// frame without its own detections gets the last frame's instances carried forward
+    /// (dynamics/instance_propagation.hpp).
+    int detections_age = 0;
 };
 
 /// OK when `segments` fits an image of `size`: label images of that size and type, every

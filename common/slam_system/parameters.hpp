@@ -33,6 +33,7 @@ void for_each_section(SystemConfig* c, F&& f) {
     f("motion", c->dynamics.motion);
     f("invalid", c->dynamics.invalid);
     f("memory", c->dynamics.memory);
+    f("propagation", c->dynamics.propagation);
     f("objects", c->objects);
 }
 

@@ -93,6 +93,7 @@ Result<FrameReport> SlamSystem::process(const io::RgbdImage& image,
     report.sensor_ns = image.sensor_ns;
     Input in;
     DF_RETURN_IF_ERROR(prepare(image, segments, where, &in, &report));
+    carry_instances(&in, &report);
     recall_instances(&in);
     const Eigen::Isometry3d guess = pose_guess();
     DF_RETURN_IF_ERROR(predict_objects(guess, &in, &report).with_context(where));
@@ -163,13 +164,32 @@ Status SlamSystem::prepare(const io::RgbdImage& image, const dynamics::FrameSegm
     if (!frame) return frame.status().with_context(where);
     in->frame = std::move(frame).value();
     report->times.preprocess_ms = ms_since(t);
+    return Status::ok();
+}
+
+void SlamSystem::carry_instances(Input* in, FrameReport* report) const {
+    const DynamicsOptions& d = config_.dynamics;
+    report->detections_age = in->segments.detections_age;
+    if (d.use_segments && in->segments.detections_age != 0 && started_ && !lost_) {
+        const io::Intrinsics& k = in->frame.levels[0].intrinsics;
+        dynamics::LabelImage carried = propagation_.carry(
+            in->frame.levels[0].depth_m, in->segments.geometric, in->segments.geometric_count,
+            last_motion_.inverse().cast<float>(),
+            {static_cast<float>(k.fx), static_cast<float>(k.fy), static_cast<float>(k.cx),
+             static_cast<float>(k.cy)},
+            d.propagation);
+        if (!carried.empty()) {
+            report->carried = static_cast<int>(carried.instances.size());
+            in->segments.objects = std::move(carried);
+        }
+    }
+    report->instances = in->segments.objects;
     const cv::Size size = in->image.depth.size();
-    in->instance_ids = config_.dynamics.use_segments
+    in->instance_ids = d.use_segments
                            ? dynamics::instance_labels(in->segments, in->frame.levels[0].depth_m,
-                                                       size, config_.dynamics.invalid)
+                                                       size, d.invalid)
                            : cv::Mat::zeros(size, CV_16UC1);
     in->instances = in->instance_ids != 0;
-    return Status::ok();
 }
 
 void SlamSystem::recall_instances(Input* in) {
@@ -218,6 +238,12 @@ void SlamSystem::remember(const Input& in) {
                                {dynamics::ObjectKind::kRigid}, in.instance_ids.size()),
              world_T_camera_});
         while (history_.size() > static_cast<size_t>(frames)) history_.pop_front();
+    }
+    if (lost_ || !config_.dynamics.propagation.enabled) {
+        propagation_.clear();
+    } else {
+        // What this frame used (its own instances, or those carried into it); none clears.
+        propagation_.store(in.segments.objects, in.frame.levels[0].depth_m);
     }
     if (in.rigid.empty()) return;
     if (lost_) {

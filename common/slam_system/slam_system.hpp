@@ -66,6 +66,11 @@ struct FrameReport {
     /// CV_16UC1 at the processing resolution: the object map id claiming each pixel, 0 none
     /// (empty when object maps are off).
     cv::Mat object_ids;
+    /// The frame's object instances as used, at the processing resolution: its own, or (its
+    /// detections not fresh) the last frame's carried forward, each row with its age.
+    dynamics::LabelImage instances;
+    int detections_age = 0;  ///< the frame's segments' detections_age
+    int carried = 0;         ///< instances carried forward into this frame
     StageTimes times;
 };
 
@@ -152,6 +157,9 @@ class SlamSystem {
     /// Checks and downscales the image and its segments, preprocesses the frame.
     Status prepare(const io::RgbdImage& image, const dynamics::FrameSegments& segments,
                    const std::string& where, Input* in, FrameReport* report) const;
+    /// A frame without fresh detections gets the last frame's instances carried forward in
+    /// place of its own (dynamics/instance_propagation.hpp); then the instances left out.
+    void carry_instances(Input* in, FrameReport* report) const;
     /// Adds the rigid instances the memory holds and this frame's segments miss to the
     /// instances left out (one table row, class -1, kind rigid).
     void recall_instances(Input* in);
@@ -189,6 +197,7 @@ class SlamSystem {
     Eigen::Isometry3d last_motion_ = Eigen::Isometry3d::Identity();  ///< previous_T_current
     cv::Mat previous_motion_;          ///< the last frame's motion mask (carried forward)
     dynamics::InstanceMemory memory_;  ///< rigid instances of the last frames
+    dynamics::InstancePropagation propagation_;  ///< the last frame's instances
     /// One tracked frame as motion segmentation's free-space evidence remembers it.
     struct HistoryFrame {
         cv::Mat depth_m;  ///< level 0

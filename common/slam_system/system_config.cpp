@@ -16,6 +16,7 @@ std::string validate(const SystemConfig& config) {
     if (std::string e = dynamics::validate(d.motion); !e.empty()) return "motion." + e;
     if (std::string e = dynamics::validate(d.invalid); !e.empty()) return "invalid." + e;
     if (std::string e = dynamics::validate(d.memory); !e.empty()) return "memory." + e;
+    if (std::string e = dynamics::validate(d.propagation); !e.empty()) return "propagation." + e;
     if (std::string e = objects::validate(config.objects); !e.empty()) return "objects." + e;
     // ... then what one field's range cannot say.
     if (config.tracking.iterations.size() > static_cast<size_t>(config.preprocess.pyramid_levels)) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "dynamics/instance_memory.hpp"
+#include "dynamics/instance_propagation.hpp"
 #include "dynamics/invalid_mask.hpp"
 #include "dynamics/motion_segmentation.hpp"
 #include "map/surfel_map.hpp"
@@ -33,6 +34,8 @@ struct DynamicsOptions : params::slam::Dynamics {
     dynamics::InvalidMaskConfig invalid;
     /// Rigid instances remembered over the frames the detector misses (when invalid.rigid).
     dynamics::InstanceMemoryConfig memory;
+    /// Instances carried forward over frames without fresh detections.
+    dynamics::PropagationConfig propagation;
 };
 
 struct SystemConfig {

@@ -93,6 +93,12 @@ int main(int argc, char** argv) {
                      "(SIMULATED: boxes from a generated sequence's ground truth), or none "
                      "(motion segmentation alone)")
         ->check(CLI::IsMember({"yolov5", "simulated", "none"}));
+    offline
+        ->add_option("--detect-every", options.detect_every,
+                     "run the detector on every Nth frame only (as a detector slower than the "
+                     "camera would); the frames between reuse its boxes, and SLAM carries the "
+                     "last instances forward over them (propagation { }; default 1: every frame)")
+        ->check(CLI::Range(1, 1000));
     offline->add_option("--write-masks", options.write_masks,
                         "write invalid/, motion/, segments/ and object_masks/ label PNGs per frame (default true)");
     offline->add_flag("--overlay", options.overlay,

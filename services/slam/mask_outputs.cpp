@@ -138,8 +138,12 @@ Status MaskOutputs::write(const io::RgbdImage& image, const dynamics::FrameSegme
         motion = upscale(regions, size);
     }
     DF_RETURN_IF_ERROR(write_png(dir_ + "/motion/" + name + ".png", motion));
+    // The instances the frame came with, or those carried into it (at the processing
+    // resolution) when its detections were not fresh.
+    const cv::Mat& instances =
+        report.carried > 0 ? report.instances.labels : segments.objects.labels;
     DF_RETURN_IF_ERROR(
-        write_png(dir_ + "/segments/" + name + ".png", upscale(segments.objects.labels, size)));
+        write_png(dir_ + "/segments/" + name + ".png", upscale(instances, size)));
     DF_RETURN_IF_ERROR(
         write_png(dir_ + "/object_masks/" + name + ".png", upscale(report.object_ids, size)));
     if (overlay_) {

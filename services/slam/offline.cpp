@@ -155,22 +155,33 @@ class Segmenter {
         if (!options_.masks.empty()) return read_masks(options_, image, mask_table_);
         if (options_.dynamics == "off") return dynamics::FrameSegments{};
         std::future<Result<std::vector<detect::Detection>>> boxes;
-        if (boxes_) {
+        const bool detect = boxes_ && seq % static_cast<uint64_t>(options_.detect_every) == 0;
+        if (detect) {
             boxes = std::async(std::launch::async,
                                [this, &image, seq] { return boxes_->detect(image, seq); });
         }
         Result<seg::GeometricSegmentation> geometric = seg::segment_depth(image, config_);
         std::vector<detect::Detection> found;
-        if (boxes_) {
+        int age = 0;
+        if (detect) {
             Result<std::vector<detect::Detection>> b = boxes.get();
             if (!b) return b.status().with_context("detector");
             found = std::move(b).value();
+            last_boxes_ = found;
+            last_detected_ = seq;
+        } else if (boxes_) {
+            // Not this frame's: the last detection's boxes, as the fusion service reuses them.
+            found = last_boxes_;
+            age = last_detected_ ? static_cast<int>(seq - *last_detected_) : -1;
         }
         if (!geometric) return geometric.status().with_context("geometric segmentation");
         const auto kind_of = [this](const detect::Detection& d) {
             return detect::class_kind(classes_, d.class_name);
         };
-        return seg::fuse_segments(*geometric, found, kind_of, config_.instances);
+        Result<dynamics::FrameSegments> fused =
+            seg::fuse_segments(*geometric, found, kind_of, config_.instances);
+        if (fused) fused->detections_age = age;
+        return fused;
     }
 
   private:
@@ -179,6 +190,8 @@ class Segmenter {
     seg::FrameSegmenterConfig config_;
     params::fusion::ClassParams classes_;  ///< which classes are rigid / non-rigid
     std::unique_ptr<boxes::BoxSource> boxes_;
+    std::vector<detect::Detection> last_boxes_;  ///< of the last frame detected
+    std::optional<uint64_t> last_detected_;
 };
 
 /// "3 car 812px T, 5 chair 0px -" per live object of the frame (T: tracked; + created).
@@ -343,7 +356,9 @@ int run_offline(const OfflineOptions& options, const config::SlamServiceConfig& 
                 " surfels=", report->fusion.total, " fused=", report->fusion.fused,
                 " created=", report->fusion.created,
                 " removed=", report->fusion.removed + report->fusion.removed_free_space,
-                " instances=", segments->objects.instances.size(), " left_out_px=",
+                " instances=", report->instances.instances.size(),
+                " detections_age=", report->detections_age, " carried=", report->carried,
+                " left_out_px=",
                 cv::countNonZero(report->invalid.tracking.empty() ? cv::Mat::zeros(1, 1, CV_8UC1)
                                                                   : report->invalid.tracking),
                 " motion_px=", report->motion.mask_pixels, " (2-means ",

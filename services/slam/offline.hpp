@@ -29,6 +29,9 @@ struct OfflineOptions {
     /// "yolov5" (config.detector()), "simulated" (SIMULATED boxes from the folder's ground
     /// truth: generated sequences only) or "none" (motion segmentation alone).
     std::string detector = "yolov5";
+    /// The detector runs on frames 0, N, 2N, ... only; the others get its last boxes with
+    /// their age (FrameSegments::detections_age), as the fusion service reuses late boxes.
+    int detect_every = 1;
     bool write_masks = true;  ///< per-frame label PNGs (mask_outputs.hpp)
     bool overlay = false;     ///< and overlay pictures
 };

@@ -87,6 +87,14 @@ void RunOutputs::add(uint64_t seq, const slam::FrameReport& report) {
         prediction_ms_.push_back(t.prediction_ms);
         if (frames_ % 10 == 0) map_growth_.push_back({frames_, report.fusion.total});
     }
+    if (report.detections_age == 0) ++own_detections_;
+    else if (report.detections_age > 0) ++reused_detections_;
+    else ++no_detections_;
+    if (report.carried > 0) {
+        ++carried_;
+        for (const dynamics::InstanceInfo& row : report.instances.instances)
+            oldest_carried_ = std::max(oldest_carried_, row.age);
+    }
     total_ms_.push_back(t.total_ms);
     objects_ms_.push_back(t.objects_predict_ms + t.objects_track_ms + t.objects_map_ms);
     ++frames_;
@@ -137,6 +145,12 @@ Status RunOutputs::finish(const slam::SlamSystem& system, bool stable_only, doub
       << (motion_fraction_.empty() ? 0.0 : fraction_sum / motion_fraction_.size())
       << ", \"max\": " << fraction_max << ", \"frames_flagged\": " << flagged
       << ", \"frames\": " << motion_fraction_.size() << "}";
+    // Masks for every frame (docs/dynamics.md, "Masks for every frame"): this run's frames by
+    // the age of their detections, and those that got instances carried forward.
+    j << ",\n  \"masks\": {\"own_detections\": " << own_detections_
+      << ", \"reused_detections\": " << reused_detections_
+      << ", \"no_detections\": " << no_detections_ << ", \"carried\": " << carried_
+      << ", \"oldest_carried_frames\": " << oldest_carried_ << "}";
     j << ",\n  \"surfels\": " << m.size() << ",\n  \"stable_surfels\": " << m.stable_count()
       << ",\n  \"map_bytes\": " << m.size() * sizeof(map::Surfel)
       << ",\n  \"surfels_rejected_by_capacity\": " << m.total_rejected_by_capacity()

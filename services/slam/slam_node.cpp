@@ -1,5 +1,6 @@
 #include "slam_node.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -275,7 +276,8 @@ void SlamNode::handle(const io::RgbdImage& image, const df_msg_Header& header,
                   " icp_rmse_mm=", t.icp_rmse_m * 1000, " surfels=", report->fusion.total,
                   " fused=", report->fusion.fused, " created=", report->fusion.created,
                   " removed=", report->fusion.removed + report->fusion.removed_free_space,
-                  " instances=", segments.objects.instances.size(),
+                  " instances=", report->instances.instances.size(),
+                  " detections_age=", report->detections_age, " carried=", report->carried,
                   " motion_px=", report->motion.mask_pixels,
                   " stage2=", report->stage2_ran ? slam::to_string(report->stage2.state) : "no",
                   " total_ms=", report->times.total_ms);
@@ -359,7 +361,14 @@ Status SlamNode::take_inputs(size_t* frames_taken) {
                 if (!info.valid_data || !epoch_of(m.header)) return;
                 auto checked = dds::accept(m, objects_->get(), objects_->topic(), info, rejects_);
                 const bool ok = checked && m.header.status == df_msg_FRAME_OK;
-                if (ok) objects_in_[m.header.seq] = dds::to_label_image(*checked);
+                if (!ok) return;
+                // Published without detections, or with an earlier frame's (reused boxes).
+                const int age =
+                    !m.detections_used ? -1
+                    : m.detections_seq >= m.header.seq
+                        ? 0
+                        : static_cast<int>(std::min<uint64_t>(m.header.seq - m.detections_seq, 65535));
+                objects_in_[m.header.seq] = {dds::to_label_image(*checked), age};
                 join_.on_companion(0, m.header.seq, ok);
             },
             16);
@@ -425,7 +434,8 @@ Status SlamNode::run() {
             dynamics::FrameSegments segments;
             const uint64_t seq = ready[i].seq;
             if (auto o = objects_in_.find(seq); o != objects_in_.end()) {
-                segments.objects = std::move(o->second);
+                segments.objects = std::move(o->second.first);
+                segments.detections_age = o->second.second;
                 objects_in_.erase(o);
             }
             if (auto g = geometric_in_.find(seq); g != geometric_in_.end()) {

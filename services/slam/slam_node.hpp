@@ -93,7 +93,8 @@ class SlamNode {
     sync::CompanionJoin join_;
     sync::SeqGaps frame_gaps_;  ///< frames this reader never received
     std::map<uint64_t, PendingFrame> waiting_;              ///< frames in the join, by seq
-    std::map<uint64_t, dynamics::LabelImage> objects_in_;    ///< by seq
+    /// By seq: the instances and how old their detections are (FrameSegments::detections_age).
+    std::map<uint64_t, std::pair<dynamics::LabelImage, int>> objects_in_;
     std::map<uint64_t, std::pair<cv::Mat, int>> geometric_in_;  ///< labels, count, by seq
     uint64_t join_epoch_ = 0;
     uint64_t late_segments_ = 0;

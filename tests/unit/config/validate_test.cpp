@@ -177,7 +177,8 @@ TEST(Validate, SlamLibraryDefaultsSatisfyTheRangesOfSlamProto) {
     std::vector<const FieldDescriptor*> sections;
     params.GetReflection()->ListFields(params, &sections);
     // preprocess tracking map prediction system dynamics motion invalid memory objects
-    EXPECT_EQ(sections.size(), 10u);
+    // propagation
+    EXPECT_EQ(sections.size(), 11u);
     const Status s = check_fields(params, "slam.");
     EXPECT_TRUE(s) << s.message();
     EXPECT_NE(
