@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <opencv2/imgproc.hpp>
 #include <vector>
 
 namespace df::dynamics {
@@ -78,14 +77,18 @@ LabelImage InstancePropagation::carry(const cv::Mat& depth_m, const cv::Mat& geo
         if (best >= 0 && most >= config.min_segment_overlap * segment_size[s])
             segment_label[s] = stored_.instances[rows[best]].id;
     }
+    // The final labels, with each instance's pixel count and bounding box in the same pass.
     std::vector<int> pixels(n, 0);
+    std::vector<cv::Rect> boxes(n);
     for (int y = 0; y < depth_m.rows; ++y) {
         const int32_t* g = segments ? geometric.ptr<int32_t>(y) : nullptr;
         uint16_t* o = out.labels.ptr<uint16_t>(y);
         for (int x = 0; x < depth_m.cols; ++x) {
             if (g && g[x] > 0 && g[x] <= count && segment_label[g[x]] != 0)
                 o[x] = segment_label[g[x]];
-            if (o[x] != 0) ++pixels[row_of[o[x]]];
+            if (o[x] == 0) continue;
+            const int k = row_of[o[x]];
+            boxes[k] = pixels[k]++ == 0 ? cv::Rect(x, y, 1, 1) : boxes[k] | cv::Rect(x, y, 1, 1);
         }
     }
     for (size_t k = 0; k < n; ++k) {
@@ -93,9 +96,8 @@ LabelImage InstancePropagation::carry(const cv::Mat& depth_m, const cv::Mat& geo
         InstanceInfo row = stored_.instances[rows[k]];
         ++row.age;
         row.pixels = pixels[k];
-        const cv::Rect box = cv::boundingRect(out.labels == row.id);
-        row.box = cv::Rect2f(static_cast<float>(box.x), static_cast<float>(box.y),
-                             static_cast<float>(box.width), static_cast<float>(box.height));
+        row.box = cv::Rect2f(static_cast<float>(boxes[k].x), static_cast<float>(boxes[k].y),
+                             static_cast<float>(boxes[k].width), static_cast<float>(boxes[k].height));
         out.instances.push_back(row);
     }
     if (out.instances.empty()) out.labels.release();
