@@ -104,6 +104,7 @@ Status ObjectMaps::create(const slam::Frame& frame, const cv::Mat& rgb,
         object->state = ObjectState::kActive;
         object->body_motion = Eigen::Isometry3d::Identity();
         object->frames_lost = 0;
+        object->frames_held = 0;
         object->last_seen_frame = frame_number;
         ++counters_.revived;
         r.id = object->id;

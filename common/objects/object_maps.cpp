@@ -160,6 +160,18 @@ Status ObjectMaps::restore(ObjectMapsState state) {
     return Status::ok();
 }
 
+namespace {
+/// Lost frames over which a reported object's guess keeps moving by its last motion; after
+/// that its guess stays where it was tracked last.
+constexpr int kMaxHeldFrames = 10;
+}  // namespace
+
+Eigen::Isometry3d ObjectMap::predicted_pose() const {
+    Eigen::Isometry3d pose = map.world_T_map();
+    for (int k = 0; k <= std::min(frames_held, kMaxHeldFrames); ++k) pose = pose * body_motion;
+    return slam::orthonormalized(pose);
+}
+
 Result<ObjectFrame> ObjectMaps::predict_and_associate(const slam::Frame& frame,
                                                       const dynamics::LabelImage& instances,
                                                       const Eigen::Isometry3d& world_T_camera_guess,
@@ -172,8 +184,7 @@ Result<ObjectFrame> ObjectMaps::predict_and_associate(const slam::Frame& frame,
     for (size_t i = 0; i < objects_.size(); ++i) {
         ObjectMap& o = objects_[i];
         if (o.state != ObjectState::kActive) continue;
-        const Eigen::Isometry3d world_T_object_guess =
-            slam::orthonormalized(o.map.world_T_map() * o.body_motion);
+        const Eigen::Isometry3d world_T_object_guess = o.predicted_pose();
         const Eigen::Isometry3d object_T_camera =
             slam::orthonormalized(world_T_object_guess.inverse() * world_T_camera_guess);
         ObjectView view;
@@ -243,7 +254,7 @@ Status ObjectMaps::track(const slam::Frame& frame, const dynamics::LabelImage& i
         ObjectMap& o = objects_[of->live[k]];
         ObjectReport& r = of->reports[k];
         if (r.pixels < config_.min_track_pixels) continue;
-        const Eigen::Isometry3d guess = slam::orthonormalized(o.map.world_T_map() * o.body_motion);
+        const Eigen::Isometry3d guess = o.predicted_pose();
         const cv::Mat instance =
             r.instance != 0 ? cv::Mat(instances.labels == r.instance) : cv::Mat();
         const cv::Rect instance_box = instance.empty() ? cv::Rect() : cv::boundingRect(instance);
@@ -252,6 +263,19 @@ Status ObjectMaps::track(const slam::Frame& frame, const dynamics::LabelImage& i
         if (!result) return result.status();
         // Not tracked on the previous frame, its guess is dead reckoning over the gap.
         const bool reacquiring = o.trajectory.empty() || o.trajectory.back().stamp_s != previous_stamp_s_;
+        if (!instance.empty() && o.frames_held > 0) {
+            // Dead reckoning overshoots an object that stopped while it was lost: try the pose
+            // it was held at as well.
+            cv::Rect held_roi;
+            auto held = track_from(frame, o, o.map.world_T_map(), world_T_camera, instance_box,
+                                   of->object_ids, &held_roi, map_time);
+            if (!held) return held.status();
+            if (held->state == slam::TrackingState::kOk &&
+                (result->state != slam::TrackingState::kOk || held->inliers > result->inliers)) {
+                result = held;
+                of->rois[k] = held_roi;
+            }
+        }
         if (!instance.empty() && (result->state != slam::TrackingState::kOk || reacquiring)) {
             // The detector sees it where the guess does not put it (it turned or sped up), or
             // the guess is old: start again with the map's visible centroid moved onto the
@@ -284,9 +308,16 @@ Status ObjectMaps::track(const slam::Frame& frame, const dynamics::LabelImage& i
             // The output keeps its last tracked pose. A map the detector no longer reports
             // is moved on by its last motion (it may be there, unseen); one it reports stays
             // where it was tracked last, so the detection keeps matching it.
-            if (instance.empty()) o.map.set_world_T_map(guess);
-            if (++o.frames_lost > 3 || !instance.empty())
+            if (instance.empty()) {
+                o.map.set_world_T_map(guess);
+                o.frames_held = 0;
+            } else {
+                ++o.frames_held;
+            }
+            if (++o.frames_lost > 3 && (instance.empty() || o.frames_held > kMaxHeldFrames)) {
                 o.body_motion = Eigen::Isometry3d::Identity();
+                o.frames_held = 0;
+            }
             continue;
         }
         const Eigen::Isometry3d world_T_object =
@@ -295,6 +326,7 @@ Status ObjectMaps::track(const slam::Frame& frame, const dynamics::LabelImage& i
         o.body_motion = slam::orthonormalized(previous.inverse() * world_T_object);
         if (o.frames_lost > 0) o.body_motion = Eigen::Isometry3d::Identity();
         o.frames_lost = 0;
+        o.frames_held = 0;
         o.map.set_world_T_map(world_T_object);
         o.trajectory.push_back(io::stamped_pose(frame.sensor_ns, world_T_object));
         ++o.frames_tracked;

@@ -59,7 +59,15 @@ struct ObjectMap {
     /// world_T_object(t-2)^-1 world_T_object(t-1): the motion in the object's own frame, for
     /// the constant-velocity guess; identity after a failed tracking.
     Eigen::Isometry3d body_motion = Eigen::Isometry3d::Identity();
+    /// Consecutive failed frames on which the detector still reported it: its pose is held
+    /// where it was tracked last (so the detection keeps matching it) while the guess moves on
+    /// by body_motion once per such frame (dead reckoning, up to kMaxHeldFrames).
+    int frames_held = 0;
     std::vector<io::StampedPose> trajectory;  ///< world_T_object of the frames it was tracked
+
+    /// Where it should be this frame: its pose moved on by body_motion once, and once more per
+    /// held frame.
+    Eigen::Isometry3d predicted_pose() const;
 
     ObjectMap(int id_, const map::SurfelMapConfig& config) : id(id_), map(id_, config) {}
 };

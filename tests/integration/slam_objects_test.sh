@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# Object maps in the SLAM service: generated room4 (a car drives through the room) behind the
-# segmentation services (SIMULATED detector) in lockstep over shared memory. SLAM publishes
-# object_poses for every frame; the car gets one object map of class car that is tracked, and
-# the run's objects.json and objects/<id>.txt hold it.
+# Object maps in the SLAM service: generated room4 (a car drives through the room, a suitcase
+# slides in front of it) behind the segmentation services (SIMULATED detector) in lockstep over
+# shared memory. SLAM publishes object_poses for every frame; the car and the suitcase each get
+# one object map of their class that is tracked, and the run's objects.json and
+# objects/<id>.txt hold them.
 source "$(dirname "$0")/lib.sh"
 roudi_running || fail "no RouDi: run through ctest (fixture roudi)"
 N=30
@@ -32,20 +33,23 @@ text, n = open(sys.argv[1]).read(), int(sys.argv[3])
 msgs = text.split("header:")[1:]
 seqs = sorted(int(re.search(r"\bseq:\s*(\d+)", m).group(1)) for m in msgs)
 assert seqs == list(range(n)), f"object_poses for frames {seqs}"
-tracked = {}
+tracked, classes = {}, {}
 for m in msgs:
     for obj in m.split("- object_id:")[1:]:
         oid = int(obj.split()[0])
         cls = int(re.search(r"class_id:\s*(-?\d+)", obj).group(1))
-        assert cls == 2, f"object {oid} of class {cls}: room4's only rigid known mover is the car"
+        assert cls in (2, 28), f"object {oid} of class {cls}: room4's rigid known movers are the car and the suitcase"
+        classes[oid] = cls
         if re.search(r"tracked:\s*true", obj):
             tracked[oid] = tracked.get(oid, 0) + 1
-assert len(tracked) == 1, f"one car map expected, tracked: {tracked}"
-(oid, frames), = tracked.items()
-assert frames >= n // 2, f"the car was tracked in {frames} of {n} frames"
+assert sorted(classes[o] for o in tracked) == [2, 28], f"one car and one suitcase map expected, tracked: {tracked} of classes {classes}"
+for oid, frames in tracked.items():
+    assert frames >= n // 2, f"object {oid} (class {classes[oid]}) was tracked in {frames} of {n} frames"
 table = json.load(open(sys.argv[2]))["objects"]
-assert [o["id"] for o in table if o["class_name"] == "car"] == [oid], table
-assert sum(1 for _ in open(sys.argv[2].replace("objects.json", table[0]["trajectory"]))) >= frames
-print(f"ok: object {oid} (car) tracked in {frames} of {n} frames; objects.json lists it")
+for oid, name in ((o, {2: "car", 28: "suitcase"}[classes[o]]) for o in tracked):
+    assert [o["id"] for o in table if o["class_name"] == name] == [oid], table
+    row = next(o for o in table if o["id"] == oid)
+    assert sum(1 for _ in open(sys.argv[2].replace("objects.json", row["trajectory"]))) >= tracked[oid]
+print(f"ok: objects tracked {tracked} in {n} frames (classes {classes}); objects.json lists them")
 PY
-pass "object_poses for every frame; the car has one tracked object map"
+pass "object_poses for every frame; the car and the suitcase each have one tracked object map"
