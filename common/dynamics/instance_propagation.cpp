@@ -33,7 +33,7 @@ LabelImage InstancePropagation::carry(const cv::Mat& depth_m, const cv::Mat& geo
     // is its vote for its segment, and the pixel keeps it where the depths agree (the same
     // surface, not one that moved away or was uncovered; a segment may hold more than the
     // instance, as a car and the floor it stands on).
-    const Eigen::Isometry3f previous_T_current = current_T_previous.inverse();
+    const Eigen::Isometry3f previous_T_current = (current_T_previous * last_T_stored_).inverse();
     const Eigen::Matrix3f r = previous_T_current.linear();
     const Eigen::Vector3f t = previous_T_current.translation();
     const size_t n = rows.size();
@@ -104,7 +104,8 @@ LabelImage InstancePropagation::carry(const cv::Mat& depth_m, const cv::Mat& geo
     return out;
 }
 
-void InstancePropagation::store(const LabelImage& instances, const cv::Mat& depth_m) {
+void InstancePropagation::store(const LabelImage& instances, const cv::Mat& depth_m,
+                                const Eigen::Isometry3f& last_T_stored) {
     if (instances.empty() || instances.instances.empty()) {
         clear();
         return;
@@ -112,11 +113,20 @@ void InstancePropagation::store(const LabelImage& instances, const cv::Mat& dept
     stored_.labels = instances.labels.clone();
     stored_.instances = instances.instances;
     depth_ = depth_m.clone();
+    last_T_stored_ = last_T_stored;
+}
+
+int InstancePropagation::freshest_age() const {
+    int age = -1;
+    for (const InstanceInfo& row : stored_.instances)
+        if (age < 0 || row.age < age) age = row.age;
+    return age;
 }
 
 void InstancePropagation::clear() {
     stored_ = LabelImage{};
     depth_.release();
+    last_T_stored_ = Eigen::Isometry3f::Identity();
 }
 
 }  // namespace df::dynamics

@@ -41,7 +41,13 @@ class InstancePropagation {
                      const Eigen::Isometry3f& current_T_previous, const PinholeCamera& camera,
                      const PropagationConfig& config) const;
     /// Stores the frame's final instances and its depth (the next carry() starts from them).
-    void store(const LabelImage& instances, const cv::Mat& depth_m);
+    /// `last_T_stored`: from the stored frame's camera to the last tracked frame's, when the
+    /// instances are an earlier frame's (object segments that arrived after their frame was
+    /// tracked); carry()'s current_T_previous is then the motion since the last tracked frame.
+    void store(const LabelImage& instances, const cv::Mat& depth_m,
+               const Eigen::Isometry3f& last_T_stored = Eigen::Isometry3f::Identity());
+    /// The smallest age of the stored rows (frames since the detector saw them); -1 if none.
+    int freshest_age() const;
     /// Forgets everything (tracking lost: the camera's motion is unknown).
     void clear();
     bool empty() const { return stored_.empty(); }
@@ -49,6 +55,7 @@ class InstancePropagation {
   private:
     LabelImage stored_;
     cv::Mat depth_;  ///< CV_32F, the stored frame's depth
+    Eigen::Isometry3f last_T_stored_ = Eigen::Isometry3f::Identity();
 };
 
 }  // namespace df::dynamics

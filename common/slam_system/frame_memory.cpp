@@ -77,7 +77,7 @@ void SlamSystem::remember(const Input& in) {
             {in.frame.levels[0].depth_m, far_depth,
              dynamics::mask_of({in.instance_ids, in.segments.objects.instances},
                                {dynamics::ObjectKind::kRigid}, in.instance_ids.size()),
-             world_T_camera_});
+             world_T_camera_, in.image.sensor_ns, frames_});
         while (history_.size() > static_cast<size_t>(frames)) history_.pop_front();
     }
     if (lost_ || !config_.dynamics.propagation.enabled) {
@@ -94,6 +94,31 @@ void SlamSystem::remember(const Input& in) {
     // The recalled pixels are kept by the memory itself (one frame older); `rigid` is what the
     // detector saw in this frame.
     memory_.store(in.rigid, in.frame.levels[0].depth_m, config_.dynamics.memory);
+}
+
+bool SlamSystem::take_late_instances(int64_t sensor_ns, const dynamics::LabelImage& objects) {
+    const DynamicsOptions& d = config_.dynamics;
+    if (!d.use_segments || !d.propagation.enabled || !started_ || lost_ || history_.empty() ||
+        objects.empty() || objects.instances.empty() || objects.labels.size() != input_size_)
+        return false;
+    const HistoryFrame* frame = nullptr;
+    for (const HistoryFrame& h : history_)
+        if (h.sensor_ns == sensor_ns) frame = &h;
+    if (frame == nullptr) return false;
+    const uint64_t last = history_.back().frame_number;
+    const int age = static_cast<int>(last - frame->frame_number);
+    if (age + 1 > d.propagation.max_age_frames) return false;
+    const int held = propagation_.freshest_age();
+    if (held >= 0 && held <= age) return false;  // what is held is as fresh
+    dynamics::FrameSegments late;
+    late.objects = objects;
+    if (!dynamics::check(late, input_size_, "late object segments")) return false;
+    late = dynamics::downscale(late, config_.system.processing_downscale);
+    for (dynamics::InstanceInfo& row : late.objects.instances) row.age = age;
+    const Eigen::Isometry3d last_T_stored =
+        history_.back().world_T_camera.inverse() * frame->world_T_camera;
+    propagation_.store(late.objects, frame->depth_m, last_T_stored.cast<float>());
+    return true;
 }
 
 }  // namespace df::slam

@@ -135,6 +135,13 @@ class SlamSystem {
 
     /// Writes trajectory() as a TUM file.
     Status write_trajectory(const std::string& file) const;
+    /// Object segments of an earlier frame that arrived after that frame was tracked (a
+    /// detector slower than the camera, the service's segments deadline passed). When the frame
+    /// is still in the motion history (motion.history_frames) and its instances are fresher
+    /// than those propagation holds, they replace them: the next frames carry the detector's
+    /// newest instances forward, aged by the frames since. `sensor_ns`: that frame's stamp;
+    /// `objects` at the input size. Returns whether they were taken.
+    bool take_late_instances(int64_t sensor_ns, const dynamics::LabelImage& objects);
     /// Writes the static map's stable surfels (all when stable_only is false) as binary PLY.
     Status write_map(const std::string& file, bool stable_only = true) const;
 
@@ -206,6 +213,8 @@ class SlamSystem {
         cv::Mat far_depth_m;
         cv::Mat rigid;    ///< its rigid instances (object maps' claims included)
         Eigen::Isometry3d world_T_camera;
+        int64_t sensor_ns = 0;
+        uint64_t frame_number = 0;
     };
     /// The last motion.history_frames tracked frames, oldest first.
     std::deque<HistoryFrame> history_;

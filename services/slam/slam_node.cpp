@@ -169,7 +169,7 @@ Status SlamNode::start_stream() {
     }
     stream_start_ns_ = now_ns();
     last_checkpoint_ns_ = 0;  // none yet: the first frame's state is saved at once
-    skipped_ = failed_ = tracked_before_ = 0;
+    skipped_ = failed_ = tracked_before_ = late_segments_ = late_instances_taken_ = 0;
     was_lost_ = false;
     log::info("stream started");
     return Status::ok();
@@ -219,7 +219,9 @@ Status SlamNode::end_stream(const char* why) {
     const double wall_s = static_cast<double>(last_frame_ns_ - stream_start_ns_) * 1e-9;
     log::info("stream ended (", why, "): ", system_->frames(), " frames processed, ",
               system_->lost_frames(), " lost, ", skipped_, " skipped to stay current, ", failed_,
-              " failed; map ", system_->static_map().size(), " surfels");
+              " failed; ", late_segments_, " tracked past the segments deadline, ",
+              late_instances_taken_, " late object segments carried forward; map ",
+              system_->static_map().size(), " surfels");
     Status written = Status::ok();
     checkpoint(true);  // a service started again later goes on from here
     if (outputs_) {
@@ -368,6 +370,16 @@ Status SlamNode::take_inputs(size_t* frames_taken) {
                     : m.detections_seq >= m.header.seq
                         ? 0
                         : static_cast<int>(std::min<uint64_t>(m.header.seq - m.detections_seq, 65535));
+                if (system_ && have_last_ && m.header.seq <= last_seq_ &&
+                    !waiting_.count(m.header.seq)) {
+                    // Its frame was tracked without them (the deadline passed): the detector's
+                    // instances are still the newest, carried forward from the next frame on.
+                    if (age == 0 &&
+                        system_->take_late_instances(static_cast<int64_t>(m.header.sensor_ns),
+                                                     dds::to_label_image(*checked)))
+                        ++late_instances_taken_;
+                    return;
+                }
                 objects_in_[m.header.seq] = {dds::to_label_image(*checked), age};
                 join_.on_companion(0, m.header.seq, ok);
             },
@@ -437,6 +449,8 @@ Status SlamNode::run() {
                 segments.objects = std::move(o->second.first);
                 segments.detections_age = o->second.second;
                 objects_in_.erase(o);
+            } else if (objects_) {
+                segments.detections_age = -1;  // none in time: the last instances are carried
             }
             if (auto g = geometric_in_.find(seq); g != geometric_in_.end()) {
                 segments.geometric = g->second.first;

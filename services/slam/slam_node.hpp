@@ -98,6 +98,7 @@ class SlamNode {
     std::map<uint64_t, std::pair<cv::Mat, int>> geometric_in_;  ///< labels, count, by seq
     uint64_t join_epoch_ = 0;
     uint64_t late_segments_ = 0;
+    uint64_t late_instances_taken_ = 0;  ///< late object segments propagation took
     std::atomic<bool>* save_request_;
     std::optional<slam::SlamSystem> system_;
     std::optional<RunOutputs> outputs_;
