@@ -1,5 +1,7 @@
 #include "service/service.hpp"
 
+#include <malloc.h>
+
 #include <chrono>
 #include <csignal>
 
@@ -8,6 +10,12 @@
 #include "core/log.hpp"
 
 namespace df::service {
+
+void keep_frame_buffers() {
+    mallopt(M_MMAP_THRESHOLD, 32 * 1024 * 1024);
+    mallopt(M_TRIM_THRESHOLD, 512 * 1024 * 1024);
+}
+
 namespace {
 std::atomic<bool> g_stop{false};  // set from signal handlers: the one process-wide flag
 extern "C" void on_stop_signal(int) { g_stop.store(true); }

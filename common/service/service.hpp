@@ -19,6 +19,13 @@ namespace df::service {
 const std::atomic<bool>& install_stop_handlers();
 bool stop_requested();
 
+/// Keeps freed frame-sized buffers (up to 32 MiB) in the heap for the next frame instead of
+/// handing them back to the kernel. glibc maps every allocation over its mmap threshold afresh,
+/// and the page faults of touching a new 640x480 buffer on every frame cost more than the work
+/// on it (df_geoseg at 30 Hz: 77 -> 23 ms of CPU per frame; docs/realtime.md, "Where the CPU
+/// goes"). The heap then stays at its peak size. Called once by every service's main().
+void keep_frame_buffers();
+
 struct ConfigFlags {
     std::string config_path;
     std::vector<std::string> overrides;

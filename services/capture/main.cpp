@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
     app.add_option("folder", folder, "TUM RGB-D folder (shortcut for --set 'folder: \"...\"')");
     CLI11_PARSE(app, argc, argv);
     df::service::install_stop_handlers();
+    df::service::keep_frame_buffers();
 
     df::config::CaptureConfig config;
     if (!folder.empty())

@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
     app.footer(df::config::options_help(df::config::DetectorServiceConfig::descriptor()));
     CLI11_PARSE(app, argc, argv);
     df::service::install_stop_handlers();
+    df::service::keep_frame_buffers();
     df::config::DetectorServiceConfig config;
     if (!df::service::load_config(flags, &config)) return 2;
     auto source = df::boxes::open_source(config);

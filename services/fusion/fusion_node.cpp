@@ -165,19 +165,62 @@ Status FusionNode::take(int64_t now) {
             detections_[m.header.seq] = std::move(boxes);
             join_.on_detections(m.header.seq, static_cast<int64_t>(m.header.capture_ns),
                                 valid ? arrival_of(m.header.status) : sync::Arrival::kFailed, now);
+            if (valid && m.header.status == df_msg_FRAME_OK && config_.republish_late_ms() > 0)
+                republish(m.header.seq, now);
         },
         32);
     return d ? Status::ok() : d.status();
 }
 
 void FusionNode::publish(const sync::JoinDecision& d) {
-    const auto t0 = now_ns();
     const auto it = segments_.find(d.seq);
     if (it == segments_.end()) return;
     const Segments& seg = it->second;
+    const std::vector<detect::Detection>* boxes = nullptr;
+    if (d.detections_used) {
+        const auto det = detections_.find(d.detections_seq);
+        if (det != detections_.end()) boxes = &det->second;
+    }
+    write(seg, d.segments, boxes, d.seq, d.detections_seq, d.why);
+    if (config_.republish_late_ms() > 0 && d.segments == sync::Arrival::kOk &&
+        !seg.labels.empty() && (boxes == nullptr || d.detections_seq != d.seq)) {
+        published_without_[d.seq] = seg;
+        // Bounded: at most 32 frames (labels of 640x480: 1.2 MB each).
+        while (published_without_.size() > 32) published_without_.erase(published_without_.begin());
+    }
+    // Payloads up to this frame are done; detections stay a little for reuse.
+    segments_.erase(segments_.begin(), segments_.upper_bound(d.seq));
+    while (!detections_.empty() && detections_.begin()->first + 16 < d.seq) {
+        detections_.erase(detections_.begin());
+    }
+}
+
+void FusionNode::republish(uint64_t seq, int64_t now) {
+    // Forget the frames captured longer ago than republish_late_ms.
+    const int64_t keep_ns = static_cast<int64_t>(config_.republish_late_ms() * 1e6);
+    for (auto it = published_without_.begin(); it != published_without_.end();) {
+        if (now - static_cast<int64_t>(it->second.header.capture_ns) > keep_ns)
+            it = published_without_.erase(it);
+        else
+            ++it;
+    }
+    const auto it = published_without_.find(seq);
+    const auto det = detections_.find(seq);
+    if (it == published_without_.end() || det == detections_.end()) return;
+    write(it->second, sync::Arrival::kOk, &det->second, seq, seq, "its own detections, late",
+          /*late=*/true);
+    ++republished_;
+    published_without_.erase(it);
+}
+
+void FusionNode::write(const Segments& seg, sync::Arrival segments_arrival,
+                       const std::vector<detect::Detection>* detections, uint64_t seq,
+                       uint64_t detections_seq, const std::string& why, bool late) {
+    const auto t0 = now_ns();
+    const uint64_t d_seq = seq;
     auto loan = objects_.loan();
     if (!loan) {
-        log::error("seq=", d.seq, " no sample to publish: ", loan.status().message());
+        log::error("seq=", d_seq, " no sample to publish: ", loan.status().message());
         return;
     }
     df_msg_ObjectSegments& m = **loan;
@@ -186,13 +229,12 @@ void FusionNode::publish(const sync::JoinDecision& d) {
     m.detections_seq = 0;
     m.instance_count = 0;
     m.width = m.height = 0;
-    if (d.segments == sync::Arrival::kOk && !seg.labels.empty()) {
+    if (segments_arrival == sync::Arrival::kOk && !seg.labels.empty()) {
         std::vector<detect::Detection> boxes;
-        if (d.detections_used) {
-            const auto det = detections_.find(d.detections_seq);
-            if (det != detections_.end()) boxes = det->second;
-            m.detections_used = det != detections_.end();
-            m.detections_seq = d.detections_seq;
+        if (detections != nullptr) {
+            boxes = *detections;
+            m.detections_used = true;
+            m.detections_seq = detections_seq;
         }
         const auto kind_of = [this](const detect::Detection& x) {
             return detect::class_kind(settings_.classes, x.class_name);
@@ -200,7 +242,7 @@ void FusionNode::publish(const sync::JoinDecision& d) {
         auto r = seg::segment_instances(seg.labels, seg.count, cv::Mat(), boxes, kind_of,
                                         settings_.instance);
         if (!r) {
-            log::error("seq=", d.seq, " ", r.status().message());
+            log::error("seq=", d_seq, " ", r.status().message());
             m.header.status = df_msg_FRAME_FAILED;
         } else {
             m.header.status = df_msg_FRAME_OK;
@@ -251,22 +293,24 @@ void FusionNode::publish(const sync::JoinDecision& d) {
             }
         }
     } else {
-        m.header.status =
-            d.segments == sync::Arrival::kSkipped ? df_msg_FRAME_SKIPPED : df_msg_FRAME_FAILED;
+        m.header.status = segments_arrival == sync::Arrival::kSkipped ? df_msg_FRAME_SKIPPED
+                                                                     : df_msg_FRAME_FAILED;
     }
     const uint32_t instances = m.instance_count;
     const bool used = m.detections_used;
     const df_msg_Header header = m.header;
-    if (Status s = objects_.write(std::move(*loan)); !s) log::warn("seq=", d.seq, " ", s.message());
-    ++published_;
-    if (!used) {
-        ++without_;
-    } else if (d.detections_seq == d.seq) {
-        ++with_own_;
-    } else {
-        ++with_reused_;
+    if (Status s = objects_.write(std::move(*loan)); !s) log::warn("seq=", d_seq, " ", s.message());
+    if (!late) {
+        ++published_;
+        if (!used) {
+            ++without_;
+        } else if (detections_seq == seq) {
+            ++with_own_;
+        } else {
+            ++with_reused_;
+        }
     }
-    log::debug("seq=", d.seq, " ", instances, " instances (", d.why, ")");
+    log::debug("seq=", d_seq, " ", instances, " instances (", why, ")");
     df_msg_StageStatus st{};
     st.header = header;
     dds::set_name(st.stage, config_.stage());
@@ -274,11 +318,6 @@ void FusionNode::publish(const sync::JoinDecision& d) {
     dds::set_name(st.timings[0].name, "fuse");
     st.timings[0].ms = static_cast<float>(static_cast<double>(now_ns() - t0) * 1e-6);
     (void)status_.write_copy(st);
-    // Payloads up to this frame are done; detections stay a little for reuse.
-    segments_.erase(segments_.begin(), segments_.upper_bound(d.seq));
-    while (!detections_.empty() && detections_.begin()->first + 16 < d.seq) {
-        detections_.erase(detections_.begin());
-    }
 }
 
 Status FusionNode::run() {
@@ -310,10 +349,12 @@ Status FusionNode::run() {
             }
             log::info("stream ended (", why, "): ", published_, " frames published (", with_own_,
                       " with their own detections, ", with_reused_, " with reused ones, ", without_,
-                      " without); instances: ", classes.empty() ? "none" : classes);
+                      " without; ", republished_, " of them published again with their own, late)",
+                      "; instances: ", classes.empty() ? "none" : classes);
             if (config_.exit_at_end()) return Status::ok();
             stream.reset();
-            published_ = with_own_ = with_reused_ = without_ = 0;
+            published_ = with_own_ = with_reused_ = without_ = republished_ = 0;
+            published_without_.clear();
             instances_by_class_.clear();
         }
     }

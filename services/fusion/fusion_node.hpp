@@ -54,6 +54,15 @@ class FusionNode {
     /// message publishes the old run's waiting frames and forgets its payloads.
     bool admit(const df_msg_Header& header, int64_t now);
     void publish(const sync::JoinDecision& d);
+    /// Fuses `boxes` (none when null) with the segments and writes one object_segments sample
+    /// (and its stage_status); counts it unless `late` (a frame published again).
+    /// `detections_seq`: whose boxes.
+    void write(const Segments& seg, sync::Arrival segments_arrival,
+               const std::vector<detect::Detection>* boxes, uint64_t seq, uint64_t detections_seq,
+               const std::string& why, bool late = false);
+    /// The frame `seq` published without its own detections, published again with them
+    /// (config republish_late_ms), if its segments are still kept.
+    void republish(uint64_t seq, int64_t now);
 
     config::FusionServiceConfig config_;
     FusionSettings settings_;
@@ -67,6 +76,9 @@ class FusionNode {
     sync::SeqGaps segment_gaps_;  ///< geometric segments this reader never received
     std::map<uint64_t, Segments> segments_;
     std::map<uint64_t, std::vector<detect::Detection>> detections_;
+    /// Frames published without their own detections, kept for republish_late_ms.
+    std::map<uint64_t, Segments> published_without_;
+    uint64_t republished_ = 0;
     uint64_t published_ = 0, with_own_ = 0, with_reused_ = 0, without_ = 0;
     uint64_t future_epochs_ = 0;  // messages dropped for an epoch far in the future
     std::map<std::string, uint64_t> instances_by_class_;  // over the stream, for the end log

@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
         return 2;
     }
     df::service::install_stop_handlers();
+    df::service::keep_frame_buffers();
     df::config::DdsConfig dds;
     dds.set_domain_id(domain_id);
     dds.set_transport("shm");  // the probe is about shared memory: no RouDi is an error

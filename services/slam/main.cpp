@@ -123,6 +123,7 @@ int main(int argc, char** argv) {
         return 0;
     }
     df::service::install_stop_handlers();
+    df::service::keep_frame_buffers();
     df::config::SlamServiceConfig config;
     if (!df::service::load_config(flags, &config)) return 2;
     if (offline->parsed()) return df::slam_service::run_offline(options, config);

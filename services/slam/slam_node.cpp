@@ -214,6 +214,21 @@ void SlamNode::checkpoint(bool now) {
     }
 }
 
+namespace {
+/// "p50 41.2 ms, p99 80.3 ms, max 95.0 ms" (or "none").
+std::string latency_text(std::vector<double> ms) {
+    if (ms.empty()) return "none";
+    std::sort(ms.begin(), ms.end());
+    const auto at = [&ms](double q) {
+        return ms[std::min(ms.size() - 1, static_cast<size_t>(q * static_cast<double>(ms.size())))];
+    };
+    char text[96];
+    std::snprintf(text, sizeof text, "p50 %.1f ms, p99 %.1f ms, max %.1f ms", at(0.5), at(0.99),
+                  ms.back());
+    return text;
+}
+}  // namespace
+
 Status SlamNode::end_stream(const char* why) {
     if (!system_) return Status::ok();
     const double wall_s = static_cast<double>(last_frame_ns_ - stream_start_ns_) * 1e-9;
@@ -221,7 +236,9 @@ Status SlamNode::end_stream(const char* why) {
               system_->lost_frames(), " lost, ", skipped_, " skipped to stay current, ", failed_,
               " failed; ", late_segments_, " tracked past the segments deadline, ",
               late_instances_taken_, " late object segments carried forward; map ",
-              system_->static_map().size(), " surfels");
+              system_->static_map().size(), " surfels; capture to pose of the tracked frames ",
+              latency_text(pose_latency_ms_));
+    pose_latency_ms_.clear();
     Status written = Status::ok();
     checkpoint(true);  // a service started again later goes on from here
     if (outputs_) {
@@ -294,6 +311,13 @@ void SlamNode::handle(const io::RgbdImage& image, const df_msg_Header& header,
     pose.inlier_ratio = t.inlier_ratio;
     pose.residual = t.icp_rmse_m;
     if (Status s = poses_.write_copy(pose); !s) log::warn("seq=", header.seq, " ", s.message());
+    if (header.capture_ns > 0 && pose_latency_ms_.size() < 1'000'000)
+        pose_latency_ms_.push_back(
+            static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                    std::chrono::system_clock::now().time_since_epoch())
+                                    .count() -
+                                static_cast<int64_t>(header.capture_ns)) *
+            1e-6);
     publish_invalid(pose.header, *report, image.depth.size());
     publish_objects(pose.header, *report);
 

@@ -99,6 +99,7 @@ class SlamNode {
     uint64_t join_epoch_ = 0;
     uint64_t late_segments_ = 0;
     uint64_t late_instances_taken_ = 0;  ///< late object segments propagation took
+    std::vector<double> pose_latency_ms_;  ///< capture to pose published, tracked frames
     std::atomic<bool>* save_request_;
     std::optional<slam::SlamSystem> system_;
     std::optional<RunOutputs> outputs_;

@@ -122,6 +122,7 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
 
     df::service::install_stop_handlers();
+    df::service::keep_frame_buffers();
     common.wait_s = wait_s;
     dds.set_domain_id(domain);
     dds.set_transport(transport);
