@@ -101,9 +101,14 @@ bool SlamSystem::take_late_instances(int64_t sensor_ns, const dynamics::LabelIma
     if (!d.use_segments || !d.propagation.enabled || !started_ || lost_ || history_.empty() ||
         objects.empty() || objects.instances.empty() || objects.labels.size() != input_size_)
         return false;
+    // Its own frame, or (a frame this system skipped to stay current) the tracked frame nearest
+    // in time, within 50 ms: one camera frame's motion is what propagation carries anyway.
     const HistoryFrame* frame = nullptr;
-    for (const HistoryFrame& h : history_)
-        if (h.sensor_ns == sensor_ns) frame = &h;
+    int64_t best = 50'000'000 + 1;
+    for (const HistoryFrame& h : history_) {
+        const int64_t dt = h.sensor_ns > sensor_ns ? h.sensor_ns - sensor_ns : sensor_ns - h.sensor_ns;
+        if (dt < best) best = dt, frame = &h;
+    }
     if (frame == nullptr) return false;
     const uint64_t last = history_.back().frame_number;
     const int age = static_cast<int>(last - frame->frame_number);

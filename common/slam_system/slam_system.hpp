@@ -139,7 +139,8 @@ class SlamSystem {
     /// detector slower than the camera, the service's segments deadline passed). When the frame
     /// is still in the motion history (motion.history_frames) and its instances are fresher
     /// than those propagation holds, they replace them: the next frames carry the detector's
-    /// newest instances forward, aged by the frames since. `sensor_ns`: that frame's stamp;
+    /// newest instances forward, aged by the frames since. A frame skipped to stay current
+    /// stands in for the tracked frame nearest in time (within 50 ms). `sensor_ns`: its stamp;
     /// `objects` at the input size. Returns whether they were taken.
     bool take_late_instances(int64_t sensor_ns, const dynamics::LabelImage& objects);
     /// Writes the static map's stable surfels (all when stable_only is false) as binary PLY.

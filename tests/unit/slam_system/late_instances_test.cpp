@@ -73,9 +73,10 @@ TEST(LateInstances, DetectionsThatAlwaysArriveLateStillGiveTheFramesMasks) {
             segments.detections_age = -1;  // none in time
             if (late && i == 10) {
                 EXPECT_TRUE(system.take_late_instances(frame7_ns, frame7.objects));
-                // Once held, the same frame's (no fresher) are not taken, nor an unknown frame's.
+                // Once held, the same frame's (no fresher) are not taken, nor those of a frame 200 ms
+                // from any tracked one.
                 EXPECT_FALSE(system.take_late_instances(frame7_ns, frame7.objects));
-                EXPECT_FALSE(system.take_late_instances(frame7_ns + 1, frame7.objects));
+                EXPECT_FALSE(system.take_late_instances(frame7_ns + 200'000'000, frame7.objects));
             }
             auto report = system.process(f.image, segments);
             ASSERT_TRUE(report.is_ok()) << report.status().message();
