@@ -11,12 +11,14 @@
 # their own, reused or no detections, what SLAM tracked past the deadline and carried, and
 # per process the CPU time per captured frame and the thread count (from /proc).
 # Usage: tests/bench/run_pipeline_bench.sh [SEQUENCE] (default build/data/default);
-# DF_BENCH_MODES="full third stopped" picks modes.
+# DF_BENCH_MODES="full third stopped" picks modes, DF_BENCH_LOOPS the times the sequence plays
+# (default 2; 1 for the camera ATE against a generated sequence's ground truth).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 bin="$root/build/bin"
 seq="${1:-$root/build/data/default}"
 deadline="${DF_BENCH_DEADLINE_MS:-40}"
+loops="${DF_BENCH_LOOPS:-2}"
 out="$(mktemp -d /tmp/df_pipeline_bench.XXXXXX)"
 sup="$root/deploy/dfsup --run-dir $out/run"
 trap '$sup down >/dev/null 2>&1 || true' EXIT
@@ -34,7 +36,7 @@ run_mode() {  # name every_nth (0 = no detector)
   local name=$1 nth=$2 ns="bench_$1_$$" pids=()
   {
     echo "name: \"bench-$name\""
-    echo "service { name: \"slam\" binary: \"df_slam\" args: [\"run\", \"--set\", \"dds { ns: \\\"\${DF_NS}\\\" }\", \"--set\", \"segments_deadline_ms: $deadline\", \"--set\", \"output { log_every: 0 }\"] }"
+    echo "service { name: \"slam\" binary: \"df_slam\" args: [\"run\", \"--set\", \"dds { ns: \\\"\${DF_NS}\\\" }\", \"--set\", \"segments_deadline_ms: $deadline\", \"--set\", \"output { log_every: 0 dir: \\\"$out/$name.slam\\\" }\"] }"
     echo 'service { name: "geoseg" binary: "df_geoseg" args: ["--set", "dds { ns: \"${DF_NS}\" }"] }'
     [ "$nth" -gt 0 ] && echo "service { name: \"detector\" binary: \"df_detector\" config: \"deploy/config/detector_default.pbtxt\" nice: ${DF_BENCH_DETECTOR_NICE:-10} args: [\"--set\", \"dds { ns: \\\"\${DF_NS}\\\" }\", \"--set\", \"every_nth: $nth\"] }"
     echo 'service { name: "fusion" binary: "df_fusion" args: ["--set", "dds { ns: \"${DF_NS}\" }", "--set", "republish_late_ms: 1000"] }'
@@ -46,21 +48,23 @@ run_mode() {  # name every_nth (0 = no detector)
   "$bin/df_tap" hz "$ns/camera_pose" --idle 3 >"$out/$name.pose_hz" 2>&1 & pids+=($!)
   sleep 6  # supervisor start, discovery, model load
   "$bin/df_capture" "$seq" --config "$root/deploy/config/capture_realtime.pbtxt" \
-    --set "dds { ns: \"$ns\" }" --set "loops: 2" >"$out/$name.capture.log" 2>&1 &
+    --set "dds { ns: \"$ns\" }" --set "loops: $loops" >"$out/$name.capture.log" 2>&1 &
   local capture=$! t0 t1 stat0 stat1 procs
   procs=($(pgrep -f -- "$ns") $(pgrep -x iox-roudi))
   sample "${procs[@]}" >"$out/$name.cpu0"
   stat0=$(head -1 /proc/stat)
   t0=$(date +%s.%N)
   # The services exit at the stream's end: sample every 0.2 s, keep each one's last sample.
-  ( while :; do sample "${procs[@]}" >"$out/$name.cpu_last.tmp"; mv -f "$out/$name.cpu_last.tmp" "$out/$name.cpu_last"; sleep 0.2; done ) &
+  ( while :; do sample "${procs[@]}" >>"$out/$name.cpu_samples"; sleep 0.2; done ) &
   local sampler=$!
   wait "$capture" || true
   t1=$(date +%s.%N)
   stat1=$(head -1 /proc/stat)
   kill "$sampler" 2>/dev/null || true
   wait "$sampler" 2>/dev/null || true
-  cp "$out/$name.cpu_last" "$out/$name.cpu1"
+  # Each process's last sample (the most CPU time it reached), its thread count at its peak.
+  awk '$3 >= t[$2] { t[$2] = $3; line[$2] = $0 } END { for (p in line) print line[p] }' \
+    "$out/$name.cpu_samples" >"$out/$name.cpu1"
   for p in "${pids[@]}"; do wait "$p" || true; done
   $sup wait fusion --timeout 30 >/dev/null || true
   $sup wait slam --timeout 60 >/dev/null || true
@@ -78,6 +82,10 @@ run_mode() {  # name every_nth (0 = no detector)
   grep -h "stream ended" "$out/$name.fusion.log" | sed 's/^.*\] //' || true
   if [ "$nth" -gt 0 ]; then grep -h "stream ended" "$out/$name.detector.log" | sed 's/^.*\] //' || true; fi
   grep -h "stream ended" "$out/$name.slam.log" | sed 's/^.*\] /slam: /' || true
+  if [ -f "$seq/groundtruth.txt" ] && [ -f "$out/$name.slam/trajectory.txt" ]; then
+    "$bin/df_eval" ate "$seq/groundtruth.txt" "$out/$name.slam/trajectory.txt" 2>/dev/null |
+      grep -m1 "ATE translation" | sed 's/^ */camera ATE of the tracked frames (rmse mean median ...): /' || true
+  fi
   # The machine as a whole over the capture: busy, idle and stolen (a virtual machine's host).
   echo "$stat0 $stat1" | awk '{ n = (NF - 2) / 2; for (i = 2; i <= n + 1; ++i) d[i - 1] = $(i + n + 1) - $i;
     busy = d[1] + d[2] + d[3] + d[6] + d[7]; total = busy + d[4] + d[5] + d[8];
