@@ -110,8 +110,23 @@ void InstancePropagation::store(const LabelImage& instances, const cv::Mat& dept
         clear();
         return;
     }
+    // Only rows with pixels in the label image can be carried (the rows SlamSystem adds for
+    // what object maps claim, or the instance memory recalls, have theirs elsewhere): the
+    // others would only make what is held look fresher than it is (freshest_age).
+    std::vector<bool> present(65536, false);
+    for (int y = 0; y < instances.labels.rows; ++y) {
+        const uint16_t* l = instances.labels.ptr<uint16_t>(y);
+        for (int x = 0; x < instances.labels.cols; ++x) present[l[x]] = true;
+    }
+    std::vector<InstanceInfo> rows;
+    for (const InstanceInfo& row : instances.instances)
+        if (row.id != 0 && present[row.id]) rows.push_back(row);
+    if (rows.empty()) {
+        clear();
+        return;
+    }
     stored_.labels = instances.labels.clone();
-    stored_.instances = instances.instances;
+    stored_.instances = std::move(rows);
     depth_ = depth_m.clone();
     last_T_stored_ = last_T_stored;
 }

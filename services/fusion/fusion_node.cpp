@@ -104,6 +104,7 @@ bool FusionNode::admit(const df_msg_Header& header, int64_t now) {
         for (const sync::JoinDecision& d : released) publish(d);
         segments_.clear();
         detections_.clear();
+        published_without_.clear();
         log::info("seq=", header.seq, " capture run epoch ", header.epoch, ": joining a new run (",
                   released.size(), " frame(s) of the old run released)");
     }
@@ -166,7 +167,7 @@ Status FusionNode::take(int64_t now) {
             join_.on_detections(m.header.seq, static_cast<int64_t>(m.header.capture_ns),
                                 valid ? arrival_of(m.header.status) : sync::Arrival::kFailed, now);
             if (valid && m.header.status == df_msg_FRAME_OK && config_.republish_late_ms() > 0)
-                republish(m.header.seq, now);
+                republish(m.header.seq);
         },
         32);
     return d ? Status::ok() : d.status();
@@ -195,9 +196,10 @@ void FusionNode::publish(const sync::JoinDecision& d) {
     }
 }
 
-void FusionNode::republish(uint64_t seq, int64_t now) {
-    // Forget the frames captured longer ago than republish_late_ms.
+void FusionNode::republish(uint64_t seq) {
+    // Forget the frames captured longer ago than republish_late_ms (capture_ns is wall time).
     const int64_t keep_ns = static_cast<int64_t>(config_.republish_late_ms() * 1e6);
+    const int64_t now = static_cast<int64_t>(dds::wall_ns());
     for (auto it = published_without_.begin(); it != published_without_.end();) {
         if (now - static_cast<int64_t>(it->second.header.capture_ns) > keep_ns)
             it = published_without_.erase(it);

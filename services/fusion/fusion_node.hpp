@@ -62,7 +62,7 @@ class FusionNode {
                const std::string& why, bool late = false);
     /// The frame `seq` published without its own detections, published again with them
     /// (config republish_late_ms), if its segments are still kept.
-    void republish(uint64_t seq, int64_t now);
+    void republish(uint64_t seq);
 
     config::FusionServiceConfig config_;
     FusionSettings settings_;

@@ -394,8 +394,8 @@ Status SlamNode::take_inputs(size_t* frames_taken) {
                     : m.detections_seq >= m.header.seq
                         ? 0
                         : static_cast<int>(std::min<uint64_t>(m.header.seq - m.detections_seq, 65535));
-                if (system_ && have_last_ && m.header.seq <= last_seq_ &&
-                    !waiting_.count(m.header.seq)) {
+                if (system_ && have_last_ && m.header.epoch == last_epoch_ &&
+                    m.header.seq <= last_seq_ && !waiting_.count(m.header.seq)) {
                     // Its frame was tracked without them (the deadline passed): the detector's
                     // instances are still the newest, carried forward from the next frame on.
                     if (age == 0 &&

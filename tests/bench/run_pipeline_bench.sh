@@ -50,7 +50,7 @@ run_mode() {  # name every_nth (0 = no detector)
   "$bin/df_capture" "$seq" --config "$root/deploy/config/capture_realtime.pbtxt" \
     --set "dds { ns: \"$ns\" }" --set "loops: $loops" >"$out/$name.capture.log" 2>&1 &
   local capture=$! t0 t1 stat0 stat1 procs
-  procs=($(pgrep -f -- "$ns") $(pgrep -x iox-roudi))
+  procs=($(pgrep -f -- "$ns" || true) $(pgrep -x iox-roudi || true))
   sample "${procs[@]}" >"$out/$name.cpu0"
   stat0=$(head -1 /proc/stat)
   t0=$(date +%s.%N)

@@ -205,5 +205,31 @@ TEST(InstancePropagation, AnInstanceIsDroppedPastItsAgeAndForgottenOnClear) {
         << "off: nothing carried";
 }
 
+TEST(InstancePropagation, OnlyRowsWithPixelsAreHeldAndTheirAgeIsTheFreshest) {
+    // A table row whose pixels are not in the label image (SlamSystem's rows for what object
+    // maps claim) cannot be carried and must not make what is held look fresh.
+    LabelImage frame;
+    frame.labels = cv::Mat::zeros(40, 40, CV_16UC1);
+    frame.labels(cv::Rect(5, 5, 10, 10)).setTo(1);
+    InstanceInfo person;
+    person.id = 1;
+    person.class_id = kPersonClass;
+    person.kind = ObjectKind::kNonRigid;
+    person.age = 4;
+    InstanceInfo claimed;
+    claimed.id = 2;
+    claimed.class_id = kCarClass;
+    claimed.kind = ObjectKind::kRigid;
+    claimed.age = 0;
+    frame.instances = {person, claimed};
+    InstancePropagation propagation;
+    EXPECT_EQ(propagation.freshest_age(), -1);
+    propagation.store(frame, cv::Mat(40, 40, CV_32F, cv::Scalar(2.f)));
+    EXPECT_EQ(propagation.freshest_age(), 4);
+    frame.instances = {claimed};
+    propagation.store(frame, cv::Mat(40, 40, CV_32F, cv::Scalar(2.f)));
+    EXPECT_TRUE(propagation.empty());
+}
+
 }  // namespace
 }  // namespace df::dynamics
