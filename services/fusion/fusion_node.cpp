@@ -219,10 +219,9 @@ void FusionNode::write(const Segments& seg, sync::Arrival segments_arrival,
                        const std::vector<detect::Detection>* detections, uint64_t seq,
                        uint64_t detections_seq, const std::string& why, bool late) {
     const auto t0 = now_ns();
-    const uint64_t d_seq = seq;
     auto loan = objects_.loan();
     if (!loan) {
-        log::error("seq=", d_seq, " no sample to publish: ", loan.status().message());
+        log::error("seq=", seq, " no sample to publish: ", loan.status().message());
         return;
     }
     df_msg_ObjectSegments& m = **loan;
@@ -244,7 +243,7 @@ void FusionNode::write(const Segments& seg, sync::Arrival segments_arrival,
         auto r = seg::segment_instances(seg.labels, seg.count, cv::Mat(), boxes, kind_of,
                                         settings_.instance);
         if (!r) {
-            log::error("seq=", d_seq, " ", r.status().message());
+            log::error("seq=", seq, " ", r.status().message());
             m.header.status = df_msg_FRAME_FAILED;
         } else {
             m.header.status = df_msg_FRAME_OK;
@@ -301,7 +300,7 @@ void FusionNode::write(const Segments& seg, sync::Arrival segments_arrival,
     const uint32_t instances = m.instance_count;
     const bool used = m.detections_used;
     const df_msg_Header header = m.header;
-    if (Status s = objects_.write(std::move(*loan)); !s) log::warn("seq=", d_seq, " ", s.message());
+    if (Status s = objects_.write(std::move(*loan)); !s) log::warn("seq=", seq, " ", s.message());
     if (!late) {
         ++published_;
         if (!used) {
@@ -312,7 +311,7 @@ void FusionNode::write(const Segments& seg, sync::Arrival segments_arrival,
             ++with_reused_;
         }
     }
-    log::debug("seq=", d_seq, " ", instances, " instances (", why, ")");
+    log::debug("seq=", seq, " ", instances, " instances (", why, ")");
     df_msg_StageStatus st{};
     st.header = header;
     dds::set_name(st.stage, config_.stage());
