@@ -133,6 +133,19 @@ Association associate(const dynamics::LabelImage& instances, const std::vector<O
             if (id != 0) {
                 auto it = view_of_instance.find(id);
                 if (it != view_of_instance.end()) {
+                    // Another map's surface inside this instance (one box over two objects):
+                    // that map's pixel.
+                    if (config.split_instances_by_silhouette && s[u] != 0 &&
+                        s[u] != it->second + 1 && d[u] > 0.f) {
+                        ++rendered[s[u] - 1];
+                        if (agrees_with_object(d[u], nz[u], config) &&
+                            !(b != nullptr && agrees_with_background(d[u], b[u], config))) {
+                            out_l[u] = s[u];
+                            ++out.pixels_of_view[s[u] - 1];
+                            ++out.silhouette_pixels_of_view[s[u] - 1];
+                            continue;
+                        }
+                    }
                     out_l[u] = static_cast<uint16_t>(it->second + 1);
                     ++out.pixels_of_view[static_cast<size_t>(it->second)];
                     continue;

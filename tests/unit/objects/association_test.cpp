@@ -151,6 +151,35 @@ TEST(Association, TheNearerOfTwoRenderedMapsOwnsAPixel) {
     EXPECT_EQ(a.pixels_of_view[0], 0);
 }
 
+TEST(Association, OneBoxOverTwoMapsIsSplitByTheirSilhouettes) {
+    Scene s;
+    // One "chair" instance over a suitcase (left) and a car (right) standing side by side.
+    s.add(1, 56, dynamics::ObjectKind::kRigid, {10, 10, 30, 10});
+    const std::vector<ObjectView> views = {view(56, {10, 10, 15, 10}),  // the suitcase's map
+                                           view(2, {25, 10, 15, 10})};  // the car's map
+    const Association a = associate(s.instances, views, s.depth, AssociationConfig{});
+    EXPECT_EQ(a.instance_of_view[0], 1);  // the instance matches one of them ...
+    EXPECT_EQ(a.instance_of_view[1], 0);
+    // ... and each map gets its own half: the car's pixels are not fused into the suitcase.
+    EXPECT_EQ(a.pixels_of_view[0], 150);
+    EXPECT_EQ(a.pixels_of_view[1], 150);
+    EXPECT_EQ(count(a.view_labels(cv::Rect(25, 10, 15, 10)), 2), 150);
+    EXPECT_EQ(count(a.view_labels(cv::Rect(10, 10, 15, 10)), 1), 150);
+    // Where the frame's depth disagrees with the car's rendering (the car left), the pixels
+    // stay the matched instance's; too little of the car agrees, so it claims nothing.
+    s.depth(cv::Rect(25, 10, 15, 10)).setTo(2.5f);
+    const Association moved = associate(s.instances, views, s.depth, AssociationConfig{});
+    EXPECT_EQ(moved.pixels_of_view[0], 300);
+    EXPECT_EQ(moved.pixels_of_view[1], 0);
+    // Switched off: the matched instance's pixels all feed its map.
+    s.depth.setTo(2.f);
+    AssociationConfig whole;
+    whole.split_instances_by_silhouette = false;
+    const Association one = associate(s.instances, views, s.depth, whole);
+    EXPECT_EQ(one.pixels_of_view[0], 300);
+    EXPECT_EQ(one.pixels_of_view[1], 0);
+}
+
 TEST(Association, BoxIou) {
     EXPECT_FLOAT_EQ(box_iou({0, 0, 10, 10}, {0, 0, 10, 10}), 1.f);
     EXPECT_FLOAT_EQ(box_iou({0, 0, 10, 10}, {5, 0, 10, 10}), 50.f / 150.f);
