@@ -128,6 +128,7 @@ dynamics::LabelImage to_label_image(const Checked<df_msg_ObjectSegments>& checke
         info.kind = kind_of(in.kind);
         info.box = cv::Rect2f(in.box_x, in.box_y, in.box_w, in.box_h);
         info.pixels = static_cast<int>(in.pixel_count);
+        info.age = in.age_frames;
         out.instances.push_back(info);
     }
     return out;
@@ -167,6 +168,7 @@ size_t fill_object_segments(const dynamics::LabelImage& labels, const df_msg_Hea
         info.box_w = i.box.width;
         info.box_h = i.box.height;
         info.pixel_count = static_cast<uint32_t>(std::max(0, i.pixels));
+        info.age_frames = static_cast<uint16_t>(std::clamp(i.age, 0, 65535));
     }
     return dropped;
 }

@@ -232,6 +232,10 @@ void FusionNode::write(const Segments& seg, sync::Arrival segments_arrival,
     m.width = m.height = 0;
     if (segments_arrival == sync::Arrival::kOk && !seg.labels.empty()) {
         std::vector<detect::Detection> boxes;
+        // Frames since the detector saw these boxes (0: this frame's own detections).
+        const uint16_t age = detections == nullptr || detections_seq >= seq
+                                 ? 0
+                                 : static_cast<uint16_t>(std::min<uint64_t>(seq - detections_seq, 65535));
         if (detections != nullptr) {
             boxes = *detections;
             m.detections_used = true;
@@ -262,6 +266,7 @@ void FusionNode::write(const Segments& seg, sync::Arrival segments_arrival,
                 info.box_w = inst.detection.box.width;
                 info.box_h = inst.detection.box.height;
                 info.pixel_count = static_cast<uint32_t>(inst.pixels);
+                info.age_frames = age;
                 ++instances_by_class_[inst.detection.class_name];
             }
             // Persons no segment explained still come with their box (0 pixels), so that SLAM
@@ -286,6 +291,7 @@ void FusionNode::write(const Segments& seg, sync::Arrival segments_arrival,
                 info.box_w = b.box.width;
                 info.box_h = b.box.height;
                 info.pixel_count = 0;
+                info.age_frames = age;
             }
             uint16_t* out = m.labels;
             for (int y = 0; y < r->labels.rows; ++y) {

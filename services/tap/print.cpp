@@ -76,7 +76,7 @@ void segments(std::ostringstream& o, const df_msg_ObjectSegments& s, int max_ite
         o << "  - {id: " << in.instance_id << ", class_id: " << in.class_id
           << ", score: " << in.score << ", kind: " << kind_name(in.kind) << ", box: [" << in.box_x
           << ", " << in.box_y << ", " << in.box_w << ", " << in.box_h
-          << "], pixels: " << in.pixel_count << "}\n";
+          << "], pixels: " << in.pixel_count << ", age: " << in.age_frames << "}\n";
     }
     array(o, "labels", s.labels, static_cast<size_t>(s.width) * s.height, max_items);
 }

@@ -13,6 +13,10 @@ N=40
   || fail "df_make_sequence failed"
 out="$TMP/slam"
 pids=()
+# What SLAM left out, with each instance's age (df_tap echo prints "age: N" per instance).
+"$BIN/df_tap" echo "$NS/invalid_mask" -n $N --items 0 --idle 30 >"$TMP/invalid.echo" \
+  2>"$TMP/invalid.echo.err" &
+e=$!
 "$BIN/df_geoseg" --set "dds { ns: \"$NS\" }" >"$TMP/geoseg.log" 2>&1 & pids+=($!)
 "$BIN/df_detector" --set "dds { ns: \"$NS\" }" --set 'model: "simulated"' --set 'every_nth: 4' \
   --set "sim_sequence: \"$TMP/seq\"" >"$TMP/detector.log" 2>&1 & pids+=($!)
@@ -27,6 +31,7 @@ s=$!; pids+=($s)
 c=$!; pids+=($c)
 wait $c || fail "capture failed: $(tail -3 "$TMP/capture.log")"
 wait $s || fail "slam failed: $(tail -5 "$TMP/slam.log")"
+wait $e || fail "invalid_mask echo failed: $(cat "$TMP/invalid.echo.err")"
 kill "${pids[@]}" 2>/dev/null || true
 
 poses=$(grep -vc '^#' "$out/trajectory.txt")
@@ -45,6 +50,17 @@ echo "frame lines $frames, without instances $without, own detections $own, carr
 # Ages: 1, 2 or 3 frames (never older than the last detection).
 bad=$(grep -E " carried=[1-9]" "$TMP/slam.log" | grep -Evc " detections_age=(-1|[1-3]) " || true)
 [ "$bad" -eq 0 ] || fail "$bad carried frames with an unexpected age"
+# The topic carries the ages too: the persons of frames with their own detections at age 0, the
+# carried ones at 1-3, none older.
+/usr/bin/python3 - "$TMP/invalid.echo" $N <<'PY' || fail "invalid_mask ages: $(grep -m5 NON_RIGID "$TMP/invalid.echo")"
+import re, sys
+ages = [int(a) for a in re.findall(r"kind: NON_RIGID[^}]*age: (\d+)", open(sys.argv[1]).read())]
+n = int(sys.argv[2])
+print("invalid_mask person ages:", {a: ages.count(a) for a in sorted(set(ages))})
+assert ages, "no person instance on invalid_mask"
+assert max(ages) <= 3, max(ages)
+assert ages.count(0) >= 1 and sum(1 for a in ages if a >= 1) >= n // 4, ages
+PY
 /usr/bin/python3 - "$out/summary.json" $N <<'PY' || fail "summary.json: $(cat "$out/summary.json" | head -40)"
 import json, sys
 m = json.load(open(sys.argv[1]))["masks"]

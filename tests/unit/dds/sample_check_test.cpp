@@ -144,8 +144,8 @@ TEST(SampleCheck, ObjectSegmentsInstancesAndLabels) {
     good->width = 320;
     good->height = 240;
     good->instance_count = 2;
-    good->instances[0] = {5, 0, 0.9f, df_msg_OBJECT_NON_RIGID, 10, 20, 30, 40, 100};
-    good->instances[1] = {9, 56, 0.5f, df_msg_OBJECT_RIGID, 0, 0, 5, 5, 25};
+    good->instances[0] = {5, 0, 0.9f, df_msg_OBJECT_NON_RIGID, 10, 20, 30, 40, 100, 0};
+    good->instances[1] = {9, 56, 0.5f, df_msg_OBJECT_RIGID, 0, 0, 5, 5, 25, 3};
     good->labels[0] = 5;
     good->labels[320 * 240 - 1] = 9;
     expect_refused<df_msg_ObjectSegments>(
