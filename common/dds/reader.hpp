@@ -17,11 +17,17 @@ enum class ReadMode {
 };
 
 using SampleVisitor = std::function<void(const void* sample, const dds_sample_info_t& info)>;
+/// As SampleVisitor, and told whether the sample is the newest of those taken together (the
+/// last one with valid data): a stage that stays current copies only that one out of the loan.
+using BatchVisitor =
+    std::function<void(const void* sample, const dds_sample_info_t& info, bool newest)>;
 
 /// Untyped take used by Reader<T> and by tools that handle any type (tap). Calls visit for each
 /// valid sample (at most max); returns how many were visited.
 Result<int> take_samples(dds_entity_t reader, const dds_topic_descriptor_t* desc, ReadMode mode,
                          int max, const SampleVisitor& visit);
+Result<int> take_batch(dds_entity_t reader, const dds_topic_descriptor_t* desc, ReadMode mode,
+                       int max, const BatchVisitor& visit);
 
 template <typename T>
 class Reader {
@@ -41,6 +47,16 @@ class Reader {
                             [&fn](const void* s, const dds_sample_info_t& info) {
                                 fn(*static_cast<const T*>(s), info);
                             });
+    }
+
+    /// As take(), calling fn(const T&, const dds_sample_info_t&, bool newest): newest is true
+    /// for the last valid sample of the batch only.
+    template <typename Fn>
+    Result<int> take_batch(Fn&& fn, int max = 16) {
+        return dds::take_batch(reader_.get(), MsgTraits<T>::descriptor(), mode_, max,
+                               [&fn](const void* s, const dds_sample_info_t& info, bool newest) {
+                                   fn(*static_cast<const T*>(s), info, newest);
+                               });
     }
 
     dds_entity_t get() const { return reader_.get(); }

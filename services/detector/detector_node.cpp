@@ -148,15 +148,18 @@ void DetectorNode::handle(const Pending& p) {
 
 Status DetectorNode::take(std::vector<Pending>* pending) {
     if (frames_) {
-        auto taken = frames_->take(
-            [&](const df_msg_RgbdFrame& f, const dds_sample_info_t& info) {
+        auto taken = frames_->take_batch(
+            [&](const df_msg_RgbdFrame& f, const dds_sample_info_t& info, bool newest) {
                 if (!info.valid_data) return;
                 auto frame = dds::accept(f, frames_->get(), frames_->topic(), info, rejects_);
                 if (!frame) {
                     pending->push_back({{}, f.header, 0, 0, false});
                     return;
                 }
-                Pending p{dds::to_image(*frame), f.header, f.width, f.height};
+                // Only the newest is detected (the older ones are answered skipped): only it
+                // is copied out of the loan.
+                Pending p{newest ? dds::to_image(*frame) : io::RgbdImage{}, f.header, f.width,
+                          f.height};
                 pending->push_back(std::move(p));
             },
             16);

@@ -170,14 +170,16 @@ Status GeosegNode::run() {
         auto woke = waitset_.wait(DDS_MSECS(100));
         if (!woke) return woke.status();
         std::vector<Pending> pending;
-        auto taken = frames_.take(
-            [&](const df_msg_RgbdFrame& f, const dds_sample_info_t& info) {
+        auto taken = frames_.take_batch(
+            [&](const df_msg_RgbdFrame& f, const dds_sample_info_t& info, bool newest) {
                 if (!info.valid_data) return;
                 auto frame = dds::accept(f, frames_.get(), frames_.topic(), info, rejects_);
-                if (frame)
+                if (!frame)
+                    pending.push_back({{}, f.header, false});
+                else if (newest)  // only the newest is segmented: only it leaves the loan
                     pending.push_back({dds::to_image(*frame), f.header});
                 else
-                    pending.push_back({{}, f.header, false});
+                    pending.push_back({{}, f.header});
             },
             16);
         if (!taken) return taken.status();
