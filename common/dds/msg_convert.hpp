@@ -3,6 +3,8 @@
 /// Views alias the sample's memory (valid while the sample is): no copy. Reading conversions
 /// take only samples that passed check_sample() (dds::Checked), so that a sample whose header
 /// claims more pixels than its buffer holds can never be viewed or copied.
+#include <algorithm>
+#include <cstdint>
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
@@ -35,6 +37,14 @@ cv::Mat labels_of(const Checked<df_msg_GeometricSegments>& segments);
 
 /// The label image and table of a checked object segments sample (labels copied).
 dynamics::LabelImage to_label_image(const Checked<df_msg_ObjectSegments>& segments);
+
+/// Frames between frame `seq` and the detections of frame `detections_seq` it was given: 0 for
+/// its own (or a newer frame's), at most 65535.
+inline int frames_since_detection(uint64_t seq, uint64_t detections_seq) {
+    return detections_seq >= seq
+               ? 0
+               : static_cast<int>(std::min<uint64_t>(seq - detections_seq, 65535));
+}
 
 /// Fills an object segments sample: `labels` (CV_16UC1, at most MAX_WIDTH x MAX_HEIGHT) and at
 /// most MAX_INSTANCES rows of its table (the rest dropped, counted in the return value).

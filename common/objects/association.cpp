@@ -128,6 +128,18 @@ Association associate(const dynamics::LabelImage& instances, const std::vector<O
         const float* d = depth_m.ptr<float>(v);
         const float* b = background ? background_depth_m.ptr<float>(v) : nullptr;
         uint16_t* out_l = out.view_labels.ptr<uint16_t>(v);
+        // Pixel u of the nearest view's silhouette (s[u] != 0, a measured depth): counted as
+        // rendered, and the view's when the frame's depth agrees with its rendering and not
+        // with the background's.
+        const auto silhouette_takes = [&](int u) {
+            ++rendered[s[u] - 1];
+            if (!agrees_with_object(d[u], nz[u], config)) return false;
+            if (b != nullptr && agrees_with_background(d[u], b[u], config)) return false;
+            out_l[u] = s[u];
+            ++out.pixels_of_view[s[u] - 1];
+            ++out.silhouette_pixels_of_view[s[u] - 1];
+            return true;
+        };
         for (int u = 0; u < size.width; ++u) {
             const uint16_t id = l ? l[u] : 0;
             if (id != 0) {
@@ -136,16 +148,8 @@ Association associate(const dynamics::LabelImage& instances, const std::vector<O
                     // Another map's surface inside this instance (one box over two objects):
                     // that map's pixel.
                     if (config.split_instances_by_silhouette && s[u] != 0 &&
-                        s[u] != it->second + 1 && d[u] > 0.f) {
-                        ++rendered[s[u] - 1];
-                        if (agrees_with_object(d[u], nz[u], config) &&
-                            !(b != nullptr && agrees_with_background(d[u], b[u], config))) {
-                            out_l[u] = s[u];
-                            ++out.pixels_of_view[s[u] - 1];
-                            ++out.silhouette_pixels_of_view[s[u] - 1];
-                            continue;
-                        }
-                    }
+                        s[u] != it->second + 1 && d[u] > 0.f && silhouette_takes(u))
+                        continue;
                     out_l[u] = static_cast<uint16_t>(it->second + 1);
                     ++out.pixels_of_view[static_cast<size_t>(it->second)];
                     continue;
@@ -154,15 +158,9 @@ Association associate(const dynamics::LabelImage& instances, const std::vector<O
             }
             if (s[u] == 0 || !(d[u] > 0.f)) continue;
             if (!config.silhouette_when_matched && out.instance_of_view[s[u] - 1] != 0) continue;
-            ++rendered[s[u] - 1];
-            if (!agrees_with_object(d[u], nz[u], config)) continue;
-            if (b != nullptr && agrees_with_background(d[u], b[u], config)) continue;
             // An unmatched rigid instance here of another class: the silhouette still wins
             // (the detector's other guess of the same surface).
-            out_l[u] = s[u];
-            if (id != 0) ++claimed[id];
-            ++out.pixels_of_view[s[u] - 1];
-            ++out.silhouette_pixels_of_view[s[u] - 1];
+            if (silhouette_takes(u) && id != 0) ++claimed[id];
         }
     }
     // Too little of a missed map's rendering agrees: it claims nothing.

@@ -233,9 +233,8 @@ void FusionNode::write(const Segments& seg, sync::Arrival segments_arrival,
     if (segments_arrival == sync::Arrival::kOk && !seg.labels.empty()) {
         std::vector<detect::Detection> boxes;
         // Frames since the detector saw these boxes (0: this frame's own detections).
-        const uint16_t age = detections == nullptr || detections_seq >= seq
-                                 ? 0
-                                 : static_cast<uint16_t>(std::min<uint64_t>(seq - detections_seq, 65535));
+        const auto age = static_cast<uint16_t>(
+            detections == nullptr ? 0 : dds::frames_since_detection(seq, detections_seq));
         if (detections != nullptr) {
             boxes = *detections;
             m.detections_used = true;

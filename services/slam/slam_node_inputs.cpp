@@ -52,11 +52,9 @@ Status SlamNode::take_inputs(size_t* frames_taken) {
                 const bool ok = checked && m.header.status == df_msg_FRAME_OK;
                 if (!ok) return;
                 // Published without detections, or with an earlier frame's (reused boxes).
-                const int age =
-                    !m.detections_used ? -1
-                    : m.detections_seq >= m.header.seq
-                        ? 0
-                        : static_cast<int>(std::min<uint64_t>(m.header.seq - m.detections_seq, 65535));
+                const int age = !m.detections_used ? -1
+                                                   : dds::frames_since_detection(
+                                                         m.header.seq, m.detections_seq);
                 if (system_ && have_last_ && m.header.epoch == last_epoch_ &&
                     m.header.seq <= last_seq_ && !waiting_.count(m.header.seq)) {
                     // Its frame was tracked without them (the deadline passed): the detector's
