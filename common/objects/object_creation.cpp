@@ -57,7 +57,7 @@ std::vector<const dynamics::InstanceInfo*> ObjectMaps::update_candidates(
 }
 
 Status ObjectMaps::create(const slam::Frame& frame, const cv::Mat& rgb,
-                          const dynamics::LabelImage& instances, const dynamics::InstanceInfo& row,
+                          const io::RgbdImage& full_image, const dynamics::LabelImage& instances, const dynamics::InstanceInfo& row,
                           const Eigen::Isometry3d& world_T_camera, int map_time,
                           uint64_t frame_number, const cv::Mat& background_depth_m,
                           ObjectFrame* of) {
@@ -136,8 +136,9 @@ Status ObjectMaps::create(const slam::Frame& frame, const cv::Mat& rgb,
     world_T_object.translation() = centroid;
     o.map.set_world_T_map(world_T_object);
     const Eigen::Isometry3d object_T_camera = world_T_object.inverse() * world_T_camera;
-    const cv::Mat left_out = pixels == 0;
-    auto fused = o.map.fuse(frame, rgb, left_out, object_T_camera, map_time, false, prediction_);
+    auto fused = fuse_pixels(o, frame, rgb, full_image, pixels,
+                             cv::Rect(cv::Point(0, 0), level.depth_m.size()), object_T_camera,
+                             map_time, background_depth_m, true);
     if (!fused) return fused.status();
     o.trajectory.push_back(io::stamped_pose(frame.sensor_ns, world_T_object));
     ++o.frames_tracked;

@@ -135,8 +135,11 @@ class ObjectMaps {
     /// `tracking`: the static map's tracking thresholds (objects use them with min_inliers of
     /// `config`); `map`, `prediction`: the static map's surfel and rendering settings (objects
     /// use them with max_surfels of `config`).
+    /// `preprocess`: the static map's preprocessing (objects fused at the sensor's resolution
+    /// preprocess their part of it alike, its pixel sizes scaled to it).
     ObjectMaps(const ObjectMapsConfig& config, const slam::TrackingConfig& tracking,
-               const map::SurfelMapConfig& map, const map::PredictionConfig& prediction);
+               const map::SurfelMapConfig& map, const map::PredictionConfig& prediction,
+               const slam::PreprocessConfig& preprocess);
 
     /// Step 1: renders the live maps at the camera guess (each map moved on by its own
     /// constant velocity) and associates them with the frame's instances (`instances`, at the
@@ -157,8 +160,11 @@ class ObjectMaps {
     /// `instances`' unmatched rigid instances, retirement. `frame_number`: SlamSystem's frame
     /// count; `rgb`: the frame's colour at level-0 size; `background_depth_m`: the static map's
     /// rendered depth at world_T_camera (may be empty): instance pixels it explains are not
-    /// fused into an object (the floor at its feet).
-    Status map(const slam::Frame& frame, const cv::Mat& rgb, const dynamics::LabelImage& instances,
+    /// fused into an object (the floor at its feet). `full_image`: the frame at the sensor's
+    /// resolution (an integer multiple of level 0's size), which objects are fused from when
+    /// config.fuse_full_resolution is on; empty (or not such a multiple): fused from `frame`.
+    Status map(const slam::Frame& frame, const cv::Mat& rgb, const io::RgbdImage& full_image,
+               const dynamics::LabelImage& instances,
                const Eigen::Isometry3d& world_T_camera, int map_time, uint64_t frame_number,
                const cv::Mat& background_depth_m, ObjectFrame* object_frame);
 
@@ -204,10 +210,20 @@ class ObjectMaps {
     /// The map's centroid in the world (mean surfel position).
     Eigen::Vector3d centroid_in_world(const ObjectMap& object) const;
     /// Creates (or revives) a map from instance `id`'s pixels of this frame.
-    Status create(const slam::Frame& frame, const cv::Mat& rgb,
+    Status create(const slam::Frame& frame, const cv::Mat& rgb, const io::RgbdImage& full_image,
                   const dynamics::LabelImage& instances, const dynamics::InstanceInfo& row,
                   const Eigen::Isometry3d& world_T_camera, int map_time, uint64_t frame_number,
                   const cv::Mat& background_depth_m, ObjectFrame* object_frame);
+    /// Fuses the pixels of `keep` (CV_8UC1 of level 0's size, non-zero = fuse) inside `roi`
+    /// (level-0 pixels) into `o` with the camera at object_T_camera: from `full_image` (see
+    /// map()) when fuse_full_resolution is on and `create_surfels`, else from `frame` and
+    /// `rgb`. `create_surfels` false (a silhouette's confirmation): only the surfels already
+    /// there are updated.
+    Result<map::FusionStats> fuse_pixels(ObjectMap& o, const slam::Frame& frame, const cv::Mat& rgb,
+                                         const io::RgbdImage& full_image, const cv::Mat& keep,
+                                         const cv::Rect& roi,
+                                         const Eigen::Isometry3d& object_T_camera, int map_time,
+                                         const cv::Mat& background_depth_m, bool create_surfels);
     /// CV_8UC1, 255 on the pixels of instance `id` to fuse: eroded, valid depth, and not
     /// explained by the background.
     cv::Mat fusable(const dynamics::LabelImage& instances, uint16_t id, const cv::Mat& depth_m,
@@ -224,6 +240,7 @@ class ObjectMaps {
     slam::TrackingConfig rough_tracking_;  ///< tracking_ with every level stepping
     map::SurfelMapConfig map_config_;
     map::PredictionConfig prediction_;
+    slam::PreprocessConfig preprocess_;
     std::vector<ObjectMap> objects_;
     std::vector<Candidate> candidates_;
     ObjectCounters counters_;

@@ -81,7 +81,8 @@ SystemState SlamSystem::state() const {
 SlamSystem::SlamSystem(const SystemConfig& config, const Eigen::Isometry3d& initial)
     : config_(config),
       static_(0, config.map),
-      objects_(config.objects, config.tracking, config.map, config.prediction),
+      objects_(config.objects, config.tracking, config.map, config.prediction,
+               config.preprocess),
       world_T_camera_(orthonormalized(initial)) {}
 
 Result<FrameReport> SlamSystem::process(const io::RgbdImage& image,
@@ -148,6 +149,7 @@ Status SlamSystem::prepare(const io::RgbdImage& image, const dynamics::FrameSegm
         }
     }
     in->image = image;
+    in->full = image;
     if (f != 1) {
         const cv::Size size(image.depth.cols / f, image.depth.rows / f);
         // Nearest neighbour: depth is never averaged across an edge or with invalid pixels.
@@ -242,7 +244,8 @@ Status SlamSystem::map_objects(Input* in, FrameReport* report) {
         objects_.track(in->frame, in->segments.objects, world_T_camera_, map_time_, &in->objects));
     report->times.objects_track_ms = ms_since(t);
     t = std::chrono::steady_clock::now();
-    DF_RETURN_IF_ERROR(objects_.map(in->frame, in->image.rgb, in->segments.objects, world_T_camera_,
+    DF_RETURN_IF_ERROR(objects_.map(in->frame, in->image.rgb, in->full, in->segments.objects,
+                                    world_T_camera_,
                                     map_time_, frames_, static_depth(), &in->objects));
     report->times.objects_map_ms = ms_since(t);
     report->objects = in->objects.reports;

@@ -150,6 +150,7 @@ class SlamSystem {
     /// One frame on its way through process().
     struct Input {
         io::RgbdImage image;               ///< at the processing resolution
+        io::RgbdImage full;                ///< as it came (the sensor's resolution)
         dynamics::FrameSegments segments;  ///< at the processing resolution (checked)
         Frame frame;
         cv::Mat instance_ids;          ///< CV_16UC1, the instances left out (instance_labels)
