@@ -57,7 +57,8 @@ std::vector<const dynamics::InstanceInfo*> ObjectMaps::update_candidates(
 }
 
 Status ObjectMaps::create(const slam::Frame& frame, const cv::Mat& rgb,
-                          const io::RgbdImage& full_image, const dynamics::LabelImage& instances, const dynamics::InstanceInfo& row,
+                          const io::RgbdImage& full_image, const dynamics::LabelImage& instances,
+                          const dynamics::InstanceInfo& row,
                           const Eigen::Isometry3d& world_T_camera, int map_time,
                           uint64_t frame_number, const cv::Mat& background_depth_m,
                           ObjectFrame* of) {

@@ -245,8 +245,8 @@ Status SlamSystem::map_objects(Input* in, FrameReport* report) {
     report->times.objects_track_ms = ms_since(t);
     t = std::chrono::steady_clock::now();
     DF_RETURN_IF_ERROR(objects_.map(in->frame, in->image.rgb, in->full, in->segments.objects,
-                                    world_T_camera_,
-                                    map_time_, frames_, static_depth(), &in->objects));
+                                    world_T_camera_, map_time_, frames_, static_depth(),
+                                    &in->objects));
     report->times.objects_map_ms = ms_since(t);
     report->objects = in->objects.reports;
     report->object_ids = in->objects.object_ids;
