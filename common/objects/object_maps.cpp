@@ -229,7 +229,68 @@ Result<ObjectFrame> ObjectMaps::predict_and_associate(const slam::Frame& frame,
             o.trajectory.empty() ? o.map.world_T_map() : io::isometry_of(o.trajectory.back());
         out.reports.push_back(r);
     }
+    if (config_.association.grow_max_step_m > 0.f)
+        grow_claims(instances, level.depth_m, background_depth_m, &out);
     return out;
+}
+
+void ObjectMaps::grow_claims(const dynamics::LabelImage& instances, const cv::Mat& depth_m,
+                             const cv::Mat& background_depth_m, ObjectFrame* of) const {
+    const Association& a = of->association;
+    if (a.unmatched_rigid.empty() || instances.labels.size() != depth_m.size()) return;
+    std::vector<uint8_t> open(65536, 0);
+    for (uint16_t id : a.unmatched_rigid) open[id] = 1;
+    // Every map that claims pixels grows, the detector's match or its silhouette's: room4's
+    // suitcase map is tracked on its silhouette while YOLOv5s's box over its newly visible
+    // part is another class's.
+    std::vector<uint8_t> grows(65536, 0);
+    for (const ObjectReport& r : of->reports)
+        if (r.pixels > 0 && r.id > 0 && r.id < 65536) grows[static_cast<size_t>(r.id)] = 1;
+    const int w = depth_m.cols, h = depth_m.rows;
+    std::vector<cv::Point> queue;
+    for (int v = 0; v < h; ++v) {
+        const uint16_t* ids = of->object_ids.ptr<uint16_t>(v);
+        for (int u = 0; u < w; ++u)
+            if (ids[u] != 0 && grows[ids[u]]) queue.emplace_back(u, v);
+    }
+    if (queue.empty()) return;
+    const bool background =
+        !background_depth_m.empty() && background_depth_m.size() == depth_m.size();
+    const float step = config_.association.grow_max_step_m;
+    const float step_per_m2 = config_.association.grow_max_step_per_m2;
+    of->grown = cv::Mat::zeros(depth_m.size(), CV_8UC1);
+    std::vector<int> added(of->reports.size(), 0);
+    // Breadth first from every claimed pixel at once: where two claims meet, each keeps what it
+    // reached first.
+    for (size_t next = 0; next < queue.size(); ++next) {
+        const cv::Point p = queue[next];
+        const uint16_t id = of->object_ids.at<uint16_t>(p);
+        const float dp = depth_m.at<float>(p);
+        const cv::Point around[4] = {
+            {p.x - 1, p.y}, {p.x + 1, p.y}, {p.x, p.y - 1}, {p.x, p.y + 1}};
+        for (const cv::Point& q : around) {
+            if (q.x < 0 || q.y < 0 || q.x >= w || q.y >= h) continue;
+            if (of->object_ids.at<uint16_t>(q) != 0 || !open[instances.labels.at<uint16_t>(q)])
+                continue;
+            const float dq = depth_m.at<float>(q);
+            if (!(dq > 0.f) || !(dp > 0.f) || std::abs(dq - dp) > step + step_per_m2 * dp * dp)
+                continue;
+            if (background && agrees_with_background(dq, background_depth_m.at<float>(q),
+                                                     config_.association)) {
+                continue;
+            }
+            of->object_ids.at<uint16_t>(q) = id;
+            of->grown.at<uint8_t>(q) = 255;
+            queue.push_back(q);
+            for (size_t k = 0; k < of->reports.size(); ++k)
+                if (of->reports[k].id == id) ++added[k];
+        }
+    }
+    for (size_t k = 0; k < of->reports.size(); ++k) of->reports[k].pixels += added[k];
+    for (size_t i = 0; i < a.unmatched_rigid.size(); ++i) {
+        of->association.unmatched_claimed[i] = cv::countNonZero(
+            (instances.labels == a.unmatched_rigid[i]) & (of->object_ids != 0));
+    }
 }
 
 Result<slam::TrackingResult> ObjectMaps::track_from(const slam::Frame& frame, ObjectMap& o,
@@ -451,9 +512,10 @@ Status ObjectMaps::map(const slam::Frame& frame, const cv::Mat& rgb,
         if (r.tracked && r.instance != 0 && !used.empty()) {
             // Only what the detector's instance shows is fused: a silhouette's depth-agreeing
             // pixels would let the map grow into the floor it stands on.
-            const cv::Mat keep = fusable(instances, r.instance, frame.levels[0].depth_m,
-                                         background_depth_m) &
-                                 (of->object_ids == static_cast<uint16_t>(o.id));
+            cv::Mat keep = fusable(instances, r.instance, frame.levels[0].depth_m,
+                                   background_depth_m);
+            if (!of->grown.empty()) keep |= of->grown;
+            keep &= of->object_ids == static_cast<uint16_t>(o.id);
             auto fused = fuse_pixels(o, frame, rgb, full_image, keep, used, object_T_camera,
                                      map_time, background_depth_m, true);
             if (!fused) return fused.status();

@@ -126,6 +126,9 @@ struct ObjectFrame {
     std::vector<size_t> live;           ///< indices of the live maps, in view order
     std::vector<cv::Rect> rois;         ///< per live map: its part of the frame (may be empty)
     Association association;            ///< views = live, in that order
+    /// CV_8UC1 (or empty): the pixels of unmatched rigid instances a map's claim grew into
+    /// (association.grow_max_step_m); they are fused into that map with its instance's.
+    cv::Mat grown;
     std::vector<ObjectReport> reports;  ///< per live map, then per map created this frame
     Eigen::Isometry3d world_T_camera_guess = Eigen::Isometry3d::Identity();
 };
@@ -224,6 +227,11 @@ class ObjectMaps {
                                          const cv::Rect& roi,
                                          const Eigen::Isometry3d& object_T_camera, int map_time,
                                          const cv::Mat& background_depth_m, bool create_surfels);
+    /// Grows the claims of the maps that claim pixels into adjacent pixels of unmatched
+    /// rigid instances (association.grow_max_step_m); updates object_ids, grown, the reports'
+    /// pixels and association.unmatched_claimed.
+    void grow_claims(const dynamics::LabelImage& instances, const cv::Mat& depth_m,
+                     const cv::Mat& background_depth_m, ObjectFrame* object_frame) const;
     /// CV_8UC1, 255 on the pixels of instance `id` to fuse: eroded, valid depth, and not
     /// explained by the background.
     cv::Mat fusable(const dynamics::LabelImage& instances, uint16_t id, const cv::Mat& depth_m,

@@ -30,6 +30,13 @@ struct RunResult {
     std::vector<std::vector<objects::ObjectReport>> reports;  ///< per frame
 };
 
+/// Changes a test makes to a frame (`car`: CV_8UC1, the car's pixels in the render's truth):
+/// to its image before segmentation, and to its instances after.
+struct Edits {
+    std::function<void(int frame, const cv::Mat& car, io::RgbdImage& image)> image;
+    std::function<void(int frame, const cv::Mat& car, dynamics::LabelImage& instances)> instances;
+};
+
 /// `frames` frames of room4 through the system. On the frames `missed` says the detector does
 /// not report the car; on those `hidden` says the car is gone from the view as well (no depth).
 /// With `checkpoint_at` >= 0 the system is written to a checkpoint file before that frame, read
@@ -37,7 +44,8 @@ struct RunResult {
 /// With `renamed`, the detector reports the car as a truck on the frames it says.
 RunResult run(int frames, const SystemConfig& config, const std::function<bool(int)>& hidden = {},
               const std::function<bool(int)>& missed = {}, int checkpoint_at = -1,
-              const std::function<bool(int)>& renamed = {}) {
+              const std::function<bool(int)>& renamed = {},
+              const Edits& edit = {}) {
     const sim::Sequence s = test::make_noisy_sequence("room4", frames);
     auto created = SlamSystem::create(config);
     EXPECT_TRUE(created.is_ok()) << created.status().message();
@@ -92,8 +100,15 @@ RunResult run(int frames, const SystemConfig& config, const std::function<bool(i
                 d.class_name = "truck";
             }
         }
+        const cv::Mat car_pixels = truth.instance == static_cast<int>(car + 1);
+        if (edit.image) {
+            edit.image(i, car_pixels, f.image);
+            geometric = seg::segment_depth(f.image, segmenter);
+            EXPECT_TRUE(geometric.is_ok()) << geometric.status().message();
+        }
         auto segments = seg::fuse_segments(*geometric, boxes, kind_of, segmenter.instances);
         EXPECT_TRUE(segments.is_ok()) << segments.status().message();
+        if (edit.instances && segments.is_ok()) edit.instances(i, car_pixels, segments->objects);
         auto report = r.system->process(f.image, *segments);
         EXPECT_TRUE(report.is_ok()) << report.status().message();
         r.reports.push_back(report.is_ok() ? report->objects
@@ -238,6 +253,57 @@ TEST(ObjectMaps, AnObjectSeenAgainUnderAnotherClassIsRelocalisedNotMappedTwice) 
     const RunResult without = run(
         45, config, [](int i) { return i >= 15 && i < 30; }, {}, -1,
         [](int i) { return i >= 30; });
+    EXPECT_EQ(of_class(without.system->object_maps(), kTruckClass).size(), 1u);
+}
+
+// Two boxes over one object (YOLOv5s on room4's suitcase): the car's left half is not seen on
+// frames 0-9 (no depth there), so its map holds only its right half. From frame 10 the left half
+// is seen, and it is another instance, a truck (the fusion service gives each pixel to one
+// instance), outside the car map's silhouette. The car's map grows its claim into it across the
+// car's continuous surface: one map, not a second one for the truck.
+TEST(ObjectMaps, ASecondBoxOnTheUnmappedPartOfAnObjectMakesNoSecondMap) {
+    const auto left_half = [](const cv::Mat& car) {
+        const cv::Rect box = cv::boundingRect(car);
+        cv::Mat left = car.clone();
+        const int middle = box.x + box.width / 2;
+        left(cv::Rect(middle, 0, left.cols - middle, left.rows)).setTo(0);
+        return left;
+    };
+    Edits edits;
+    edits.image = [&](int i, const cv::Mat& car, io::RgbdImage& image) {
+        if (i < 10) image.depth.setTo(0, left_half(car));
+    };
+    edits.instances = [&](int i, const cv::Mat& car, dynamics::LabelImage& instances) {
+        if (i < 10 || instances.empty()) return;
+        const cv::Mat left = left_half(car) & (instances.labels != 0);
+        uint16_t next = 1;
+        for (const dynamics::InstanceInfo& row : instances.instances)
+            next = std::max<uint16_t>(next, row.id + 1);
+        const int moved = cv::countNonZero(left);
+        if (moved == 0) return;
+        for (dynamics::InstanceInfo& row : instances.instances)
+            row.pixels -= cv::countNonZero(left & (instances.labels == row.id));
+        instances.labels.setTo(next, left);
+        dynamics::InstanceInfo truck;
+        truck.id = next;
+        truck.class_id = kTruckClass;
+        truck.score = 0.9f;
+        truck.kind = dynamics::ObjectKind::kRigid;
+        truck.box = cv::Rect2f(cv::boundingRect(left));
+        truck.pixels = moved;
+        instances.instances.push_back(truck);
+    };
+    SystemConfig config;
+    config.objects.min_create_pixels = 150;  // the right half entering the view is small
+    const RunResult r = run(40, config, {}, {}, -1, {}, edits);
+    const auto cars = of_class(r.system->object_maps(), kCarClass);
+    ASSERT_EQ(cars.size(), 1u);
+    EXPECT_EQ(of_class(r.system->object_maps(), kTruckClass).size(), 0u)
+        << "the truck is the car's unmapped half";
+    EXPECT_GE(cars[0]->frames_tracked, 30u);
+    // Without the claim growing, the truck gets a map of its own.
+    config.objects.association.grow_max_step_m = 0.f;
+    const RunResult without = run(40, config, {}, {}, -1, {}, edits);
     EXPECT_EQ(of_class(without.system->object_maps(), kTruckClass).size(), 1u);
 }
 
