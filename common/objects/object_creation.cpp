@@ -144,6 +144,13 @@ Status ObjectMaps::create(const slam::Frame& frame, const cv::Mat& rgb,
     o.trajectory.push_back(io::stamped_pose(frame.sensor_ns, world_T_object));
     ++o.frames_tracked;
     of->object_ids.setTo(o.id, pixels);
+    if (config_.refine_first_frames > 0) {
+        // The creation frame's pose is the object frame's first pose: refined with the rest.
+        const cv::Rect box = cv::boundingRect(pixels);
+        cv::Rect used;
+        const slam::Frame part = slam::crop(frame, box + cv::Size(16, 16) - cv::Point(8, 8), &used);
+        if (!used.empty()) keep_early_view(o, part, of->object_ids(used), world_T_camera);
+    }
     r.id = o.id;
     r.pixels = cv::countNonZero(pixels);
     r.tracked = true;

@@ -45,6 +45,7 @@ Status write_objects(const std::string& dir, const ObjectMaps& maps, const Class
           << ", \"class_name\": " << json_string(names ? names(o.class_id) : "")
           << ", \"score\": " << o.score << ", \"first_frame\": " << o.first_frame
           << ", \"last_frame\": " << last_frame(o) << ", \"frames_tracked\": " << o.frames_tracked
+          << ", \"early_poses_refined\": " << o.early_poses_refined
           << ", \"surfels\": " << o.map.map().size() << ", \"state\": \"" << to_string(o.state)
           << "\", \"trajectory\": \"" << trajectory
           << "\", \"model\": " << (m.is_ok() ? "\"" + model + "\"" : std::string("null")) << "}";

@@ -146,6 +146,13 @@ Status ObjectMaps::map(const slam::Frame& frame, const cv::Mat& rgb,
             auto carved = o.map.carve(part, cv::Mat(), object_T_camera, map_time, !r.tracked);
             if (!carved) return carved.status();
         }
+        if (r.tracked && !used.empty() && config_.refine_first_frames > 0 && !o.early_refined) {
+            if (o.frames_tracked < static_cast<uint64_t>(config_.refine_after_frames)) {
+                keep_early_view(o, part, of->object_ids(used), world_T_camera);
+            } else {
+                DF_RETURN_IF_ERROR(refine_early_poses(o, map_time));
+            }
+        }
         counters_.surfels_rejected_by_capacity += o.map.map().total_rejected_by_capacity() - before;
         r.surfels = o.map.map().size();
         if (frame_number - o.last_seen_frame >=

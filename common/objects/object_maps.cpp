@@ -152,6 +152,9 @@ Status ObjectMaps::restore(ObjectMapsState state) {
         o.map.set_world_T_map(m.world_T_object);
         o.body_motion = m.body_motion;
         o.trajectory = std::move(m.trajectory);
+        // The kept early views are not in a checkpoint: a restored map's first poses stay as
+        // they are (refined already, or as tracked).
+        o.early_refined = true;
         DF_RETURN_IF_ERROR(o.map.map()
                                .restore(std::move(m.surfels), m.surfels_rejected_by_capacity)
                                .with_context(where));
@@ -403,6 +406,86 @@ Status ObjectMaps::track(const slam::Frame& frame, const dynamics::LabelImage& i
         r.world_T_object = world_T_object;
     }
     previous_stamp_s_ = io::stamped_pose(frame.sensor_ns, Eigen::Isometry3d::Identity()).stamp_s;
+    return Status::ok();
+}
+
+namespace {
+
+/// Views refined per frame once an object is due: the work is spread so that no frame pays for
+/// all of them (30 views at once cost one room4 frame about 40 ms per object).
+constexpr size_t kRefinedViewsPerFrame = 4;
+/// The most bytes of early views an object keeps (a crop of 100x70 processing pixels takes about
+/// 0.5 MB; an object filling a 320x240 frame about 6 MB).
+constexpr size_t kMaxEarlyViewBytes = size_t{48} << 20;
+
+size_t bytes_of(const slam::Frame& frame) {
+    size_t n = 0;
+    for (const slam::FrameLevel& l : frame.levels) {
+        for (const cv::Mat* m : {&l.depth_m, &l.smoothed_depth_m, &l.vertex, &l.smoothed_vertex,
+                                 &l.normal, &l.intensity, &l.grad_x, &l.grad_y}) {
+            n += m->total() * m->elemSize();
+        }
+    }
+    return n;
+}
+
+slam::Frame deep_copy(const slam::Frame& frame) {
+    slam::Frame out = frame;
+    for (slam::FrameLevel& l : out.levels) {
+        for (cv::Mat* m : {&l.depth_m, &l.smoothed_depth_m, &l.vertex, &l.smoothed_vertex,
+                           &l.normal, &l.intensity, &l.grad_x, &l.grad_y}) {
+            *m = m->clone();
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
+void ObjectMaps::keep_early_view(ObjectMap& o, const slam::Frame& part, const cv::Mat& object_ids,
+                                 const Eigen::Isometry3d& world_T_camera) {
+    if (o.early_refined || o.trajectory.empty() ||
+        o.early_views.size() >= static_cast<size_t>(config_.refine_first_frames)) {
+        return;
+    }
+    size_t kept = bytes_of(part);
+    for (const ObjectMap::EarlyView& v : o.early_views) kept += bytes_of(v.part);
+    if (kept > kMaxEarlyViewBytes) return;
+    ObjectMap::EarlyView view;
+    view.part = deep_copy(part);
+    view.left_out = all_but(object_ids, static_cast<uint16_t>(o.id));
+    view.world_T_camera = world_T_camera;
+    view.trajectory_index = o.trajectory.size() - 1;
+    o.early_views.push_back(std::move(view));
+}
+
+Status ObjectMaps::refine_early_poses(ObjectMap& o, int map_time) {
+    const size_t n = std::min(kRefinedViewsPerFrame, o.early_views.size());
+    std::vector<ObjectMap::EarlyView> views(std::make_move_iterator(o.early_views.begin()),
+                                            std::make_move_iterator(o.early_views.begin() + n));
+    o.early_views.erase(o.early_views.begin(), o.early_views.begin() + n);
+    if (o.early_views.empty()) o.early_refined = true;
+    for (ObjectMap::EarlyView& view : views) {
+        if (view.trajectory_index >= o.trajectory.size()) continue;
+        io::StampedPose& pose = o.trajectory[view.trajectory_index];
+        const Eigen::Isometry3d tracked = io::isometry_of(pose);
+        const Eigen::Isometry3d initial =
+            slam::orthonormalized(tracked.inverse() * view.world_T_camera);
+        DF_RETURN_IF_ERROR(o.map.predict_model(view.part, initial, map_time, prediction_));
+        auto result = o.map.track(view.part, initial, view.left_out, tracking_);
+        if (!result) return result.status();
+        if (result->state != slam::TrackingState::kOk) continue;
+        const Eigen::Isometry3d refined =
+            slam::orthonormalized(view.world_T_camera * result->world_T_camera.inverse());
+        if ((refined.translation() - tracked.translation()).norm() >
+            config_.refine_max_correction_m) {
+            continue;
+        }
+        const double stamp_s = pose.stamp_s;
+        pose = io::stamped_pose(0, refined);
+        pose.stamp_s = stamp_s;
+        ++o.early_poses_refined;
+    }
     return Status::ok();
 }
 

@@ -65,6 +65,18 @@ struct ObjectMap {
     int frames_held = 0;
     std::vector<io::StampedPose> trajectory;  ///< world_T_object of the frames it was tracked
 
+    /// One of its first tracked frames, kept until its early poses are refined
+    /// (config refine_first_frames): they were tracked against a model still being built.
+    struct EarlyView {
+        slam::Frame part;  ///< the tracked crop, a deep copy
+        cv::Mat left_out;  ///< CV_8UC1 of the crop: non-zero where the pixel is not the object's
+        Eigen::Isometry3d world_T_camera = Eigen::Isometry3d::Identity();
+        size_t trajectory_index = 0;
+    };
+    std::vector<EarlyView> early_views;
+    bool early_refined = false;    ///< done, or restored from a checkpoint (views not kept)
+    int early_poses_refined = 0;   ///< early poses the refinement replaced
+
     /// Where it should be this frame: its pose moved on by body_motion once, and once more per
     /// held frame.
     Eigen::Isometry3d predicted_pose() const;
@@ -227,6 +239,14 @@ class ObjectMaps {
                                          const cv::Rect& roi,
                                          const Eigen::Isometry3d& object_T_camera, int map_time,
                                          const cv::Mat& background_depth_m, bool create_surfels);
+    /// Keeps the crop `part` that `o` was tracked in this frame (and `object_ids` over it) while
+    /// it is one of its first refine_first_frames tracked frames.
+    void keep_early_view(ObjectMap& o, const slam::Frame& part, const cv::Mat& object_ids,
+                         const Eigen::Isometry3d& world_T_camera);
+    /// Tracks the oldest few kept early views again against `o`'s model as it is now, replaces
+    /// their trajectory poses where that passes (config refine_*) and frees them; called once
+    /// per tracked frame from refine_after_frames on, until none is left.
+    Status refine_early_poses(ObjectMap& o, int map_time);
     /// Grows the claims of the maps that claim pixels into adjacent pixels of unmatched
     /// rigid instances (association.grow_max_step_m); updates object_ids, grown, the reports'
     /// pixels and association.unmatched_claimed.
