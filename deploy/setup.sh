@@ -9,6 +9,7 @@ APT_PACKAGES=(
   libeigen3-dev libopencv-dev libopenni2-dev
   libprotobuf-dev protobuf-compiler
   supervisor
+  iproute2 nftables  # two hosts on one machine (tests/two_hosts/netns.sh): namespaces, loss
   libgtest-dev libgmock-dev libbenchmark-dev
   nlohmann-json3-dev libcli11-dev libzstd-dev liblz4-dev libnanoflann-dev zlib1g-dev
   python3 python3-protobuf python3-numpy python3-matplotlib

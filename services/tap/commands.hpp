@@ -13,6 +13,7 @@ struct CommonOptions {
     RunLimits limits;
     int window = 100;  ///< samples in the statistics window (hz, bw, delay)
     int depth = 16;    ///< reader history: samples kept until taken (a burst beyond it drops)
+    bool ok_only = false;  ///< delay: only samples whose header status is FRAME_OK
 };
 
 int cmd_list(const dds::Participant& p, double wait_s);

@@ -93,6 +93,10 @@ int main(int argc, char** argv) {
             ->check(CLI::Range(1, 100000));
         add_limits(sub);
     }
+    delay->add_flag("--ok-only", common.ok_only,
+                    "only messages whose status is FRAME_OK (a stage's answers for frames it "
+                    "skipped or failed left out: for a detector, the round trip of the frames "
+                    "it detected)");
     df::tap::RecordOptions rec;
     auto* record = app.add_subcommand("record", "record topics to an MCAP file");
     record->add_option("-o,--output", rec.output, "MCAP file to write")->required();

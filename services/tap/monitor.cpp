@@ -168,6 +168,7 @@ int cmd_delay(const dds::Participant& p, const std::string& topic, const CommonO
         [&](size_t, const void* sample, const dds_sample_info_t&) {
             // Every type starts with df_msg_Header.
             const auto* h = static_cast<const df_msg_Header*>(sample);
+            if (o.ok_only && h->status != df_msg_FRAME_OK) return;
             delays.add((static_cast<double>(dds::wall_ns()) - static_cast<double>(h->capture_ns)) *
                        1e-6);
         },

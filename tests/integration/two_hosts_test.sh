@@ -1,0 +1,106 @@
+#!/usr/bin/env bash
+# Detection on a second host, for real (issue 14): two hosts made of network namespaces joined by
+# a veth pair (tests/two_hosts/netns.sh), deploy/pipelines/two_hosts.pbtxt started on each with
+# dfsup. Host a (RouDi, capture, geometric segmentation, fusion, SLAM) gets YOLOv5s's detections
+# from host b over UDP; then the link is cut for 5 s and restored. Asserts: camera poses on a at
+# the same rate during the cut as before it, no process on a restarted, and fusion using host b's
+# detections again after the link is back. Skips (77) without root, network namespaces or the
+# YOLOv5s model.
+source "$(dirname "$0")/lib.sh"
+need_own_roudi
+if [ "$(id -u)" != 0 ] || ! command -v ip >/dev/null; then
+  echo "SKIP: needs root and iproute2 to make network namespaces"; exit 77
+fi
+if [ ! -f /usr/local/share/detectfusion/models/yolov5s/model.json ]; then
+  echo "SKIP: no YOLOv5s model (deploy/setup.sh installs it)"; exit 77
+fi
+export DF_HOSTS_PREFIX="t$(( $$ % 100000 ))"
+export DF_HOSTS_SUBNET="10.213.$(( RANDOM % 200 + 20 ))"
+HOSTS="$SRC/tests/two_hosts/netns.sh"
+if ! "$HOSTS" up; then
+  echo "SKIP: network namespaces cannot be made here"; exit 77
+fi
+eval "$("$HOSTS" env)"
+BUILD="$(dirname "$BIN")"
+vars() {  # vars HOST: dfsup's --var options for that host
+  local ifc=$IF_A; [ "$1" = b ] && ifc=$IF_B
+  echo "--var DF_DATA=$TMP/seq --var DF_NS=$NS --var DF_OUT=$TMP/out-$1 --var DF_BUILD=$BUILD" \
+       "--var DF_IFACE=$ifc --var DF_ADDR_A=$ADDR_A --var DF_ADDR_B=$ADDR_B"
+}
+SUP_A="$HOSTS exec a $SRC/deploy/dfsup --run-dir $TMP/run-a"
+SUP_B="$HOSTS exec b $SRC/deploy/dfsup --run-dir $TMP/run-b"
+teardown() {
+  $SUP_B down >/dev/null 2>&1 || true
+  $SUP_A down >/dev/null 2>&1 || true
+  "$HOSTS" down
+  cleanup
+}
+trap teardown EXIT
+make_sequence 90 --no-models
+TAP="$HOSTS exec a $BIN/df_tap --interfaces $IF_A --peer $ADDR_A --peer $ADDR_B"
+
+$SUP_A up "$SRC/deploy/pipelines/two_hosts.pbtxt" --host a $(vars a) >/dev/null
+$SUP_B up "$SRC/deploy/pipelines/two_hosts.pbtxt" --host b $(vars b) >/dev/null
+! $SUP_B status | grep -q '^roudi' || fail "host b started a RouDi: $($SUP_B status)"
+pids_a() { $SUP_A status | awk '$2=="RUNNING" {print $1 "=" $4}' | sort | tr '\n' ' '; }
+
+# Everything on a sees the object segments; b's detections reach them over the link.
+$TAP echo "$NS/object_segments" --items 0 --depth 256 >"$TMP/segments.txt" 2>"$TMP/segments.err" &
+echo_pid=$!; pids+=($echo_pid)
+used_after() {  # used_after NS_EPOCH: how many object segments captured after it used detections
+  /usr/bin/python3 - "$TMP/segments.txt" "$1" <<'PY'
+import re, sys
+n = 0
+for m in open(sys.argv[1], errors="replace").read().split("header:")[1:]:
+    c = re.search(r"capture_ns:\s*(\d+)", m); u = re.search(r"detections_used:\s*(\w+)", m)
+    if c and u and int(c.group(1)) > int(sys.argv[2]) and u.group(1) == "true":
+        n += 1
+print(n)
+PY
+}
+wait_used_after() {  # wait_used_after NS_EPOCH TIMEOUT_S: seconds until one was seen, or fails
+  local t0; t0=$(date +%s.%N)
+  for _ in $(seq $(( $2 * 10 ))); do
+    if [ "$(used_after "$1")" -gt 0 ]; then
+      /usr/bin/python3 -c "import time,sys; print(f'{time.time() - float(sys.argv[1]):.1f}')" "$t0"
+      return 0
+    fi
+    sleep 0.1
+  done
+  fail "no object segments with host b's detections within $2 s (a: $($SUP_A status | tr '\n' ';') b: $($SUP_B status | tr '\n' ';') detector: $(tail -3 "$TMP/run-b/logs/detector.log"))"
+}
+start_ns=$(date +%s%N)
+took=$(wait_used_after "$start_ns" 120)
+pass "fusion on host a used host b's detections ($took s after the start)"
+before_pids=$(pids_a)
+
+rate() {  # rate LOG: the last average rate df_tap hz printed
+  awk '/average rate:/ {r=$3} END {print r+0}' "$1"
+}
+$TAP hz "$NS/camera_pose" --duration 5 >"$TMP/hz_before.txt" 2>&1 || true
+# The tap must be up before the cut: a participant cannot start on an interface that is down.
+$TAP hz "$NS/camera_pose" --duration 6 >"$TMP/hz_cut.txt" 2>&1 &
+hz_pid=$!; pids+=($hz_pid)
+sleep 1
+"$HOSTS" cut
+sleep 5
+restore_ns=$(date +%s%N)
+"$HOSTS" restore
+wait $hz_pid || true
+before=$(rate "$TMP/hz_before.txt"); during=$(rate "$TMP/hz_cut.txt")
+echo "camera_pose on host a: $before Hz before the cut, $during Hz during it"
+/usr/bin/python3 -c "import sys; b, d = map(float, sys.argv[1:]); sys.exit(0 if b > 5 and d >= 0.7 * b else 1)" "$before" "$during" ||
+  fail "camera_pose rate fell with the link cut: $before Hz before, $during Hz during ($(tail -2 "$TMP/hz_cut.txt"))"
+pass "camera poses kept their rate through the 5 s cut ($before Hz before, $during Hz during)"
+took=$(wait_used_after "$restore_ns" 30)
+pass "host b's detections used again $took s after the link came back"
+after_pids=$(pids_a)
+[ "$before_pids" = "$after_pids" ] || fail "a process on host a restarted: before '$before_pids', after '$after_pids'"
+pass "no process on host a restarted ($after_pids)"
+
+$SUP_B down >/dev/null || fail "dfsup down on host b failed"
+$SUP_A down >/dev/null || fail "dfsup down on host a failed"
+kill "$echo_pid" 2>/dev/null || true; wait "$echo_pid" 2>/dev/null || true
+left="$(ip netns pids "$NS_A" 2>/dev/null) $(ip netns pids "$NS_B" 2>/dev/null)"
+[ -z "${left// /}" ] || fail "processes left in the namespaces after dfsup down: $left"
+pass "both hosts torn down"
