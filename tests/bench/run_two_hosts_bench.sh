@@ -12,8 +12,8 @@
 #   frame's first object_segments sample used them), and at all (also when fusion republished
 #   the frame with late detections, republish_late_ms);
 # - camera_pose rate.
-# Then the link is cut for 5 s: the pose rate during the cut and how long until detections are
-# used again. Needs root, iproute2 and the YOLOv5s model.
+# Then the link is cut for 5 s, and host b's pipeline is stopped for 5 s and started again: the
+# pose rate meanwhile and how long until detections are used again. Needs root, iproute2 and the YOLOv5s model.
 #   sudo bash tests/bench/run_two_hosts_bench.sh [SEQUENCE]   (default: build/data/default)
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -47,6 +47,9 @@ for _ in $(seq 600); do
   $TAP echo "$NS/object_segments" --items 0 -n 30 --wait 2 2>/dev/null | grep -q "detections_used: true" && break
   sleep 0.1
 done
+
+pids_a() { $SUP_A status | awk '$2=="RUNNING" {print $1 "=" $4}' | sort | tr '\n' ' '; }
+before_pids=$(pids_a)
 
 share() {  # share DETECTIONS_ECHO SEGMENTS_ECHO: detected frames, of them used in time
   /usr/bin/python3 - "$1" "$2" <<'PY'
@@ -124,4 +127,31 @@ print("not within 14 s" if best is None else f"{best:.2f} s")
 PY
 )
 echo "cut 5 s          camera_pose $(awk '/average rate:/ {r=$3} END {printf "%.1f", r+0}' "$TMP/hz_cut") Hz during the cut; detections used again on a frame captured $rec after the link came back"
-echo "processes on a restarted: $($SUP_A status | awk '{print $1}' | tr '\n' ' ') -- see dfsup status; heals: $(cat "$TMP/run-a/heal.log" 2>/dev/null | grep -c because || true)"
+# Host b stopped for 5 s and started again with its supervisor (a restarted detector host).
+$TAP hz "$NS/camera_pose" --duration 6 >"$TMP/hz_gone" 2>&1 &
+hzp=$!
+$TAP echo "$NS/object_segments" --items 0 --depth 256 --duration 20 >"$TMP/seg_gone" 2>&1 &
+segp=$!
+sleep 1
+$SUP_B down >/dev/null; sleep 5
+back=$(date +%s%N)
+$SUP_B up "$ROOT/deploy/pipelines/two_hosts.pbtxt" --host b $(vars b) >/dev/null
+wait $hzp || true; wait $segp || true
+rec=$(/usr/bin/python3 - "$TMP/seg_gone" "$back" <<'PY'
+import re, sys
+best = None
+for m in open(sys.argv[1], errors="replace").read().split("header:")[1:]:
+    c = re.search(r"capture_ns:\s*(\d+)", m); u = re.search(r"detections_used:\s*(\w+)", m)
+    if c and u and u.group(1) == "true" and int(c.group(1)) > int(sys.argv[2]):
+        t = (int(c.group(1)) - int(sys.argv[2])) / 1e9
+        best = t if best is None else min(best, t)
+print("not within 14 s" if best is None else f"{best:.2f} s")
+PY
+)
+echo "host b down 5 s  camera_pose $(awk '/average rate:/ {r=$3} END {printf "%.1f", r+0}' "$TMP/hz_gone") Hz while it was down; detections used again on a frame captured $rec after 'dfsup up' on b (the detector loads YOLOv5s first)"
+after_pids=$(pids_a)
+if [ "$before_pids" = "$after_pids" ]; then
+  echo "host a: no process restarted ($after_pids)"
+else
+  echo "host a: processes restarted: before $before_pids, after $after_pids"
+fi

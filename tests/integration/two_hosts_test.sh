@@ -2,9 +2,10 @@
 # Detection on a second host, for real (issue 14): two hosts made of network namespaces joined by
 # a veth pair (tests/two_hosts/netns.sh), deploy/pipelines/two_hosts.pbtxt started on each with
 # dfsup. Host a (RouDi, capture, geometric segmentation, fusion, SLAM) gets YOLOv5s's detections
-# from host b over UDP; then the link is cut for 5 s and restored. Asserts: camera poses on a at
-# the same rate during the cut as before it, no process on a restarted, and fusion using host b's
-# detections again after the link is back. Skips (77) without root, network namespaces or the
+# from host b over UDP; then the link is cut for 5 s and restored, and host b's pipeline is
+# stopped for 5 s and started again (a restarted detector host). Asserts: camera poses on a at
+# the rate of before during both, no process on a restarted, and fusion using host b's
+# detections again after each. Skips (77) without root, network namespaces or the
 # YOLOv5s model.
 source "$(dirname "$0")/lib.sh"
 need_own_roudi
@@ -94,6 +95,24 @@ echo "camera_pose on host a: $before Hz before the cut, $during Hz during it"
 pass "camera poses kept their rate through the 5 s cut ($before Hz before, $during Hz during)"
 took=$(wait_used_after "$restore_ns" 30)
 pass "host b's detections used again $took s after the link came back"
+
+# Host b goes away (its supervisor and detector stopped) for 5 s and comes back with its
+# supervisor, as a restarted machine would.
+$TAP hz "$NS/camera_pose" --duration 6 >"$TMP/hz_gone.txt" 2>&1 &
+hz_pid=$!; pids+=($hz_pid)
+sleep 0.5
+$SUP_B down >/dev/null || fail "dfsup down on host b failed"
+sleep 5
+back_ns=$(date +%s%N)
+$SUP_B up "$SRC/deploy/pipelines/two_hosts.pbtxt" --host b $(vars b) >/dev/null
+wait $hz_pid || true
+gone=$(rate "$TMP/hz_gone.txt")
+/usr/bin/python3 -c "import sys; b, d = map(float, sys.argv[1:]); sys.exit(0 if d >= 0.7 * b else 1)" "$before" "$gone" ||
+  fail "camera_pose rate fell while host b was down: $before Hz before, $gone Hz during"
+pass "camera poses kept their rate while host b was down ($gone Hz)"
+took=$(wait_used_after "$back_ns" 60)
+pass "host b's detections used again $took s after its supervisor started it again"
+
 after_pids=$(pids_a)
 [ "$before_pids" = "$after_pids" ] || fail "a process on host a restarted: before '$before_pids', after '$after_pids'"
 pass "no process on host a restarted ($after_pids)"
