@@ -106,16 +106,20 @@ for cond in "delay 20ms" "delay 50ms" "loss 1" "loss 5" "rate 10mbit"; do
   "$HOSTS" shape clear
 done
 sleep 2
-# The link cut for 5 s.
-$TAP hz "$NS/camera_pose" --duration 6 >"$TMP/hz_cut" 2>&1 &
-hzp=$!
-$TAP echo "$NS/object_segments" --items 0 --depth 256 --duration 20 >"$TMP/seg_cut" 2>&1 &
-segp=$!
-sleep 1
-"$HOSTS" cut; sleep 5
-back=$(date +%s%N); "$HOSTS" restore
-wait $hzp || true; wait $segp || true
-rec=$(/usr/bin/python3 - "$TMP/seg_cut" "$back" <<'PY'
+# fault NAME BREAK MEND: the pose rate while BREAK holds for 5 s, and how soon after MEND a
+# frame used detections again.
+fault() {
+  $TAP hz "$NS/camera_pose" --duration 6 >"$TMP/hz_fault" 2>&1 &
+  local hzp=$!
+  $TAP echo "$NS/object_segments" --items 0 --depth 256 --duration 20 >"$TMP/seg_fault" 2>&1 &
+  local segp=$!
+  sleep 1
+  eval "$2"; sleep 5
+  local back; back=$(date +%s%N)
+  eval "$3"
+  wait $hzp || true; wait $segp || true
+  local rec
+  rec=$(/usr/bin/python3 - "$TMP/seg_fault" "$back" <<'PY'
 import re, sys
 best = None
 for m in open(sys.argv[1], errors="replace").read().split("header:")[1:]:
@@ -126,29 +130,14 @@ for m in open(sys.argv[1], errors="replace").read().split("header:")[1:]:
 print("not within 14 s" if best is None else f"{best:.2f} s")
 PY
 )
-echo "cut 5 s          camera_pose $(awk '/average rate:/ {r=$3} END {printf "%.1f", r+0}' "$TMP/hz_cut") Hz during the cut; detections used again on a frame captured $rec after the link came back"
-# Host b stopped for 5 s and started again with its supervisor (a restarted detector host).
-$TAP hz "$NS/camera_pose" --duration 6 >"$TMP/hz_gone" 2>&1 &
-hzp=$!
-$TAP echo "$NS/object_segments" --items 0 --depth 256 --duration 20 >"$TMP/seg_gone" 2>&1 &
-segp=$!
-sleep 1
-$SUP_B down >/dev/null; sleep 5
-back=$(date +%s%N)
-$SUP_B up "$ROOT/deploy/pipelines/two_hosts.pbtxt" --host b $(vars b) >/dev/null
-wait $hzp || true; wait $segp || true
-rec=$(/usr/bin/python3 - "$TMP/seg_gone" "$back" <<'PY'
-import re, sys
-best = None
-for m in open(sys.argv[1], errors="replace").read().split("header:")[1:]:
-    c = re.search(r"capture_ns:\s*(\d+)", m); u = re.search(r"detections_used:\s*(\w+)", m)
-    if c and u and u.group(1) == "true" and int(c.group(1)) > int(sys.argv[2]):
-        t = (int(c.group(1)) - int(sys.argv[2])) / 1e9
-        best = t if best is None else min(best, t)
-print("not within 14 s" if best is None else f"{best:.2f} s")
-PY
-)
-echo "host b down 5 s  camera_pose $(awk '/average rate:/ {r=$3} END {printf "%.1f", r+0}' "$TMP/hz_gone") Hz while it was down; detections used again on a frame captured $rec after 'dfsup up' on b (the detector loads YOLOv5s first)"
+  printf "%-16s camera_pose %s Hz meanwhile; detections used again on a frame captured %s after it ended\n" \
+    "$1" "$(awk '/average rate:/ {r=$3} END {printf "%.1f", r+0}' "$TMP/hz_fault")" "$rec"
+}
+fault "link cut 5 s" '"$HOSTS" cut' '"$HOSTS" restore'
+# Host b stopped and started again with its supervisor (a restarted detector host; the detector
+# loads YOLOv5s first).
+fault "host b down 5 s" '$SUP_B down >/dev/null' \
+  '$SUP_B up "$ROOT/deploy/pipelines/two_hosts.pbtxt" --host b $(vars b) >/dev/null'
 after_pids=$(pids_a)
 if [ "$before_pids" = "$after_pids" ]; then
   echo "host a: no process restarted ($after_pids)"
