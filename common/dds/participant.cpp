@@ -55,6 +55,57 @@ bool valid_name(const std::string& name) {
 
 }  // namespace
 
+namespace {
+
+/// The <Security> section: Cyclone's authentication, access-control and cryptography plugins
+/// with the files of config.security_dir. kInvalidArgument naming the file when one is missing
+/// or a name could inject XML.
+Result<std::string> security_xml(const ParticipantConfig& config) {
+    const std::string& dir = config.security_dir;
+    const std::string where = "dds.security_dir '" + dir + "'";
+    for (const char c : dir + config.security_identity) {
+        if (c == '<' || c == '>' || c == '&' || c == '"' || c == '\'') {
+            return Status(StatusCode::kInvalidArgument,
+                          where + ": security_dir and security_identity may not contain <>&\"'");
+        }
+    }
+    if (config.security_identity.empty() || !valid_name(config.security_identity)) {
+        return Status(StatusCode::kInvalidArgument,
+                      where + ": dds.security_identity must name this participant's certificate "
+                              "in it (letters, digits and .-_:), e.g. the host's name; got '" +
+                          config.security_identity + "'");
+    }
+    const std::string id = config.security_identity;
+    for (const std::string f : {std::string("identity_ca.pem"), std::string("permissions_ca.pem"),
+                                std::string("governance.p7s"), std::string("permissions.p7s"),
+                                id + ".pem", id + ".key"}) {
+        const std::string path = dir + "/" + f;
+        if (::access(path.c_str(), R_OK) != 0) {
+            return Status(StatusCode::kInvalidArgument,
+                          where + ": cannot read '" + path +
+                              "' (make the folder with deploy/security/make_certs.sh DIR " + id +
+                              " ...)");
+        }
+    }
+    const std::string lib = kSecurityPluginDir;
+    const auto file = [&](const std::string& f) { return "file:" + dir + "/" + f; };
+    return "<Security><Authentication><Library path=\"" + lib +
+           "/libdds_security_auth.so\" initFunction=\"init_authentication\" "
+           "finalizeFunction=\"finalize_authentication\"/><IdentityCA>" +
+           file("identity_ca.pem") + "</IdentityCA><IdentityCertificate>" + file(id + ".pem") +
+           "</IdentityCertificate><PrivateKey>" + file(id + ".key") +
+           "</PrivateKey></Authentication><AccessControl><Library path=\"" + lib +
+           "/libdds_security_ac.so\" initFunction=\"init_access_control\" "
+           "finalizeFunction=\"finalize_access_control\"/><PermissionsCA>" +
+           file("permissions_ca.pem") + "</PermissionsCA><Governance>" + file("governance.p7s") +
+           "</Governance><Permissions>" + file("permissions.p7s") +
+           "</Permissions></AccessControl><Cryptographic><Library path=\"" + lib +
+           "/libdds_security_crypto.so\" initFunction=\"init_crypto\" "
+           "finalizeFunction=\"finalize_crypto\"/></Cryptographic></Security>";
+}
+
+}  // namespace
+
 Result<std::string> domain_xml(const ParticipantConfig& config, bool shared_memory) {
     for (const auto& i : config.interfaces) {
         if (!valid_name(i)) {
@@ -110,6 +161,11 @@ Result<std::string> domain_xml(const ParticipantConfig& config, bool shared_memo
     if (shared_memory) {
         xml += "<SharedMemory><Enable>true</Enable><LogLevel>warn</LogLevel></SharedMemory>";
     }
+    if (!config.security_dir.empty()) {
+        auto security = security_xml(config);
+        if (!security) return security.status();
+        xml += *security;
+    }
     xml += config.extra_xml;
     xml += "</Domain></CycloneDDS>";
     return xml;
@@ -158,8 +214,12 @@ Result<Participant> Participant::create(const ParticipantConfig& config) {
         network = "interfaces";
         for (const auto& i : config.interfaces) network += " " + i;
     }
+    const bool secure = !config.security_dir.empty() && (user_uri == nullptr || *user_uri == '\0');
     log::info("DDS: participant in domain ", config.domain_id, ", transport ",
-              to_string(effective), ", network ", network);
+              to_string(effective), ", network ", network,
+              secure ? ", DDS Security as '" + config.security_identity + "' (" +
+                           config.security_dir + ")"
+                     : std::string());
     return Participant(std::move(domain), Entity(p), effective);
 }
 

@@ -47,12 +47,19 @@ struct ParticipantConfig {
     int lease_ms = 2000;
     /// Extra Cyclone XML put inside <Domain> (e.g. <Tracing>...).
     std::string extra_xml;
+    /// DDS Security: a folder made by deploy/security/make_certs.sh and this participant's
+    /// identity in it; empty security_dir: off.
+    std::string security_dir;
+    std::string security_identity;
     /// Lock file RouDi holds while it runs (iceoryx 2.0).
     std::string roudi_lock_file = "/tmp/roudi.lock";
 };
 
 /// True when a RouDi daemon holds its lock file (it is running on this machine).
 bool roudi_running(const std::string& lock_file = "/tmp/roudi.lock");
+
+/// Where Debian's libddsc0debian puts Cyclone's security plugins.
+constexpr const char* kSecurityPluginDir = "/usr/lib/x86_64-linux-gnu/libddsc0debian";
 
 /// The Cyclone XML the participant uses without CYCLONEDDS_URI (checked names: letters, digits
 /// and ".-_:" only, so no XML can be injected through a name).

@@ -57,6 +57,8 @@ Result<dds::Participant> make_participant(const config::DdsConfig& dds) {
     pc.domain_id = dds.domain_id();
     pc.transport = *transport;
     pc.extra_xml = dds.extra_xml();
+    pc.security_dir = dds.security_dir();
+    pc.security_identity = dds.security_identity();
     std::string name;
     for (const char c : dds.interfaces() + ",") {
         if (c == ',' || c == ' ') {

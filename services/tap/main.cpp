@@ -60,6 +60,10 @@ int main(int argc, char** argv) {
     std::vector<std::string> peers;
     app.add_option("--interfaces", interfaces, "network interfaces, e.g. eth0 (default: loopback)");
     app.add_option("--peer", peers, "unicast discovery peer address (repeatable)");
+    std::string security_dir, identity;
+    app.add_option("--security-dir", security_dir,
+                   "DDS Security folder made by deploy/security/make_certs.sh (default: off)");
+    app.add_option("--identity", identity, "this tap's identity in --security-dir");
     df::tap::CommonOptions common;
     double wait_s = 5;
     app.add_option("--wait", wait_s, "seconds to wait for discovery")
@@ -132,6 +136,8 @@ int main(int argc, char** argv) {
     dds.set_transport(transport);
     dds.set_interfaces(interfaces);
     for (const auto& peer : peers) dds.add_peers(peer);
+    dds.set_security_dir(security_dir);
+    dds.set_security_identity(identity);
     auto participant = df::service::make_participant(dds);
     if (!participant) {
         df::log::error(participant.status().message());

@@ -34,19 +34,31 @@ teardown() {
   "$HOSTS" down; rm -rf "$TMP"
 }
 trap teardown EXIT
+"$ROOT/deploy/security/make_certs.sh" "$TMP/sec" a b >/dev/null
+SEC="$TMP/sec"  # DDS Security on, as the pipeline has it; "" for the run without
 vars() {
   local ifc=$IF_A; [ "$1" = b ] && ifc=$IF_B
   echo "--var DF_DATA=$DATA --var DF_NS=$NS --var DF_OUT=$TMP/out-$1 --var DF_BUILD=$(dirname "$BIN")" \
-       "--var DF_IFACE=$ifc --var DF_ADDR_A=$ADDR_A --var DF_ADDR_B=$ADDR_B"
+       "--var DF_IFACE=$ifc --var DF_ADDR_A=$ADDR_A --var DF_ADDR_B=$ADDR_B --var DF_SECURITY_DIR=$SEC"
 }
-TAP="$HOSTS exec a $BIN/df_tap --interfaces $IF_A --peer $ADDR_A --peer $ADDR_B"
-$SUP_A up "$ROOT/deploy/pipelines/two_hosts.pbtxt" --host a $(vars a) >/dev/null
-$SUP_B up "$ROOT/deploy/pipelines/two_hosts.pbtxt" --host b $(vars b) >/dev/null
-# Until the detector's first detections are used (model load, discovery).
-for _ in $(seq 600); do
-  $TAP echo "$NS/object_segments" --items 0 -n 30 --wait 2 2>/dev/null | grep -q "detections_used: true" && break
-  sleep 0.1
-done
+tap() {  # the bench's taps on host a, with the pipeline's security
+  if [ -n "$SEC" ]; then
+    $HOSTS exec a "$BIN/df_tap" --interfaces "$IF_A" --peer "$ADDR_A" --peer "$ADDR_B" --security-dir "$SEC" --identity a "$@"
+  else
+    $HOSTS exec a "$BIN/df_tap" --interfaces "$IF_A" --peer "$ADDR_A" --peer "$ADDR_B" "$@"
+  fi
+}
+TAP=tap
+start() {
+  $SUP_A up "$ROOT/deploy/pipelines/two_hosts.pbtxt" --host a $(vars a) >/dev/null
+  $SUP_B up "$ROOT/deploy/pipelines/two_hosts.pbtxt" --host b $(vars b) >/dev/null
+  # Until the detector's first detections are used (model load, discovery).
+  for _ in $(seq 600); do
+    $TAP echo "$NS/object_segments" --items 0 -n 30 --wait 2 2>/dev/null | grep -q "detections_used: true" && break
+    sleep 0.1
+  done
+}
+start
 
 pids_a() { $SUP_A status | awk '$2=="RUNNING" {print $1 "=" $4}' | sort | tr '\n' ' '; }
 before_pids=$(pids_a)
@@ -74,7 +86,7 @@ PY
 measure() {  # measure LABEL
   local d="$TMP/m"; rm -rf "$d"; mkdir -p "$d"
   $TAP hz "$NS/camera_pose" --duration "$WINDOW" >"$d/hz" 2>&1 &
-  local p1=$!
+  local p1=$! cpu0; cpu0=$(head -1 /proc/stat)
   $TAP bw "$NS/color_small" --duration "$WINDOW" >"$d/bw" 2>&1 &
   local p2=$!
   $TAP delay "$NS/detections" --ok-only --window 100000 --duration "$WINDOW" >"$d/delay" 2>&1 &
@@ -84,14 +96,15 @@ measure() {  # measure LABEL
   $TAP echo "$NS/object_segments" --items 0 --depth 256 --duration "$WINDOW" >"$d/seg" 2>&1 &
   local p5=$!
   wait $p1 $p2 $p3 $p4 $p5 || true
-  local hz bw dl s
+  local hz bw dl s busy
+  busy=$(/usr/bin/python3 -c "import sys; a=list(map(int,sys.argv[1].split()[1:])); b=list(map(int,sys.argv[2].split()[1:])); d=[y-x for x,y in zip(a,b)]; idle=d[3]+d[4]; print(f'{100*(sum(d)-idle)/max(1,sum(d)):.0f}')" "$cpu0" "$(head -1 /proc/stat)")
   hz=$(awk '/average rate:/ {r=$3} END {printf "%.1f", r+0}' "$d/hz")
   bw=$(awk '/average:/ {r=$2 " " $3} END {print r}' "$d/bw")
   dl=$(awk '/delay \(receive/ {r=sprintf("%.0f / %.0f ms", $9, $12)} END {print (r == "" ? "none" : r)}' "$d/delay")
   read -r seen used late < <(share "$d/det" "$d/seg")
   s=$( [ "$seen" -gt 0 ] && /usr/bin/python3 -c "import sys; n, a, b = map(int, sys.argv[1:]); print(f'{n} detected: {100*a/n:.0f} % in time, {100*b/n:.0f} % used at all')" "$seen" "$used" "$late" || echo "no frame detected")
-  printf "%-12s color_small %-10s detections p50/p99 %-13s camera_pose %4s Hz  %s\n" \
-    "$1" "$bw" "$dl" "$hz" "$s"
+  printf "%-12s color_small %-10s detections p50/p99 %-13s camera_pose %4s Hz  cpu %s %%  %s\n" \
+    "$1" "$bw" "$dl" "$hz" "$busy" "$s"
 }
 echo "two hosts ($NS_A, $NS_B; $IF_A $ADDR_A <-> $IF_B $ADDR_B), $(basename "$DATA") at 30 Hz, windows of $WINDOW s"
 measure "clean"
@@ -144,3 +157,8 @@ if [ "$before_pids" = "$after_pids" ]; then
 else
   echo "host a: processes restarted: before $before_pids, after $after_pids"
 fi
+# What security costs: the clean link again, both hosts restarted without it.
+$SUP_B down >/dev/null; $SUP_A down >/dev/null
+SEC=""
+start
+measure "clean, no DDS Security"

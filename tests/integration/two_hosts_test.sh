@@ -5,8 +5,10 @@
 # from host b over UDP; then the link is cut for 5 s and restored, and host b's pipeline is
 # stopped for 5 s and started again (a restarted detector host). Asserts: camera poses on a at
 # the rate of before during both, no process on a restarted, and fusion using host b's
-# detections again after each. Skips (77) without root, network namespaces or the
-# YOLOv5s model.
+# detections again after each. DDS Security is on, as the pipeline has it: participants without a
+# certificate, or with another CA's, receive nothing, and a detector with another CA's
+# certificate gets no detection used. Skips (77) without root, network namespaces or the YOLOv5s
+# model.
 source "$(dirname "$0")/lib.sh"
 need_own_roudi
 if [ "$(id -u)" != 0 ] || ! command -v ip >/dev/null; then
@@ -23,10 +25,14 @@ if ! "$HOSTS" up; then
 fi
 eval "$("$HOSTS" env)"
 BUILD="$(dirname "$BIN")"
+# DDS Security as the pipeline has it by default: both hosts' identities from one pair of CAs;
+# a rogue folder with CAs of its own for the checks that an outsider gets nothing.
+"$SRC/deploy/security/make_certs.sh" "$TMP/sec" a b >/dev/null || fail "make_certs.sh failed"
+"$SRC/deploy/security/make_certs.sh" "$TMP/rogue" a b >/dev/null || fail "make_certs.sh (rogue) failed"
 vars() {  # vars HOST: dfsup's --var options for that host
   local ifc=$IF_A; [ "$1" = b ] && ifc=$IF_B
   echo "--var DF_DATA=$TMP/seq --var DF_NS=$NS --var DF_OUT=$TMP/out-$1 --var DF_BUILD=$BUILD" \
-       "--var DF_IFACE=$ifc --var DF_ADDR_A=$ADDR_A --var DF_ADDR_B=$ADDR_B"
+       "--var DF_IFACE=$ifc --var DF_ADDR_A=$ADDR_A --var DF_ADDR_B=$ADDR_B --var DF_SECURITY_DIR=$TMP/sec"
 }
 SUP_A="$HOSTS exec a $SRC/deploy/dfsup --run-dir $TMP/run-a"
 SUP_B="$HOSTS exec b $SRC/deploy/dfsup --run-dir $TMP/run-b"
@@ -38,7 +44,8 @@ teardown() {
 }
 trap teardown EXIT
 make_sequence 90 --no-models
-TAP="$HOSTS exec a $BIN/df_tap --interfaces $IF_A --peer $ADDR_A --peer $ADDR_B"
+NET_A="--interfaces $IF_A --peer $ADDR_A --peer $ADDR_B"
+TAP="$HOSTS exec a $BIN/df_tap $NET_A --security-dir $TMP/sec --identity a"
 
 $SUP_A up "$SRC/deploy/pipelines/two_hosts.pbtxt" --host a $(vars a) >/dev/null
 $SUP_B up "$SRC/deploy/pipelines/two_hosts.pbtxt" --host b $(vars b) >/dev/null
@@ -74,6 +81,26 @@ start_ns=$(date +%s%N)
 took=$(wait_used_after "$start_ns" 120)
 pass "fusion on host a used host b's detections ($took s after the start)"
 before_pids=$(pids_a)
+
+# DDS Security: a participant without a certificate, or with one of other CAs, finds no writer of
+# the frames that cross (discovery is encrypted too) and receives nothing.
+outsider() {  # outsider NAME [df_tap security options]: echo color_small from host b
+  local who=$1; shift
+  if $HOSTS exec b "$BIN/df_tap" --interfaces "$IF_B" --peer "$ADDR_A" --peer "$ADDR_B" "$@" \
+       --wait 4 echo "$NS/color_small" --items 0 -n 1 >"$TMP/outsider_$who.txt" 2>&1; then
+    echo received >>"$TMP/outsider_$who.txt"
+  fi
+}
+outsider none & o1=$!
+outsider rogue --security-dir "$TMP/rogue" --identity a & o2=$!
+wait $o1 $o2
+for who in none rogue; do
+  ! grep -q "^received" "$TMP/outsider_$who.txt" ||
+    fail "a participant with certificate '$who' received color_small: $(head -5 "$TMP/outsider_$who.txt")"
+  grep -q "no writer of topic" "$TMP/outsider_$who.txt" ||
+    fail "certificate '$who': expected no writer found, got: $(tail -2 "$TMP/outsider_$who.txt")"
+done
+pass "participants without a certificate or with another CA's receive nothing from host a"
 
 rate() {  # rate LOG: the last average rate df_tap hz printed
   awk '/average rate:/ {r=$3} END {print r+0}' "$1"
@@ -117,7 +144,17 @@ after_pids=$(pids_a)
 [ "$before_pids" = "$after_pids" ] || fail "a process on host a restarted: before '$before_pids', after '$after_pids'"
 pass "no process on host a restarted ($after_pids)"
 
+# A detector with another CA's certificate for "b", on host b: fusion uses nothing of it.
 $SUP_B down >/dev/null || fail "dfsup down on host b failed"
+rogue_ns=$(date +%s%N)
+$HOSTS exec b timeout 7 "$BIN/df_detector" --config "$SRC/deploy/config/detector_default.pbtxt" \
+  --set 'input: "color_small"' \
+  --set "dds { ns: \"$NS\" transport: \"udp\" interfaces: \"$IF_B\" peers: \"$ADDR_A\" peers: \"$ADDR_B\" security_dir: \"$TMP/rogue\" security_identity: \"b\" }" \
+  >"$TMP/rogue_detector.log" 2>&1 || true
+grep -q "DDS Security as 'b'" "$TMP/rogue_detector.log" ||
+  fail "the rogue detector did not start with its certificate: $(tail -3 "$TMP/rogue_detector.log")"
+[ "$(used_after "$rogue_ns")" -eq 0 ] || fail "fusion used detections of a detector with another CA's certificate"
+pass "a detector with another CA's certificate gets no detection used by fusion"
 $SUP_A down >/dev/null || fail "dfsup down on host a failed"
 kill "$echo_pid" 2>/dev/null || true; wait "$echo_pid" 2>/dev/null || true
 left="$(ip netns pids "$NS_A" 2>/dev/null) $(ip netns pids "$NS_B" 2>/dev/null)"

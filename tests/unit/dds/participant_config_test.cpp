@@ -1,6 +1,10 @@
 // The Cyclone configuration a participant is given without CYCLONEDDS_URI: loopback only by
 // default, named interfaces and peers on request, and names that could inject XML refused.
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
 
 #include "dds/participant.hpp"
 
@@ -87,6 +91,57 @@ TEST(ParticipantConfig, LeaseIsTwoSecondsUnlessExtraXmlSetsOne) {
     auto refused = domain_xml(bad, false);
     ASSERT_FALSE(refused.is_ok());
     EXPECT_NE(refused.status().message().find("[0, 3600000]"), std::string::npos);
+}
+
+// DDS Security: the folder of deploy/security/make_certs.sh gives Cyclone's three plugins their
+// files; a missing file is named, and the participant is not made without it.
+TEST(ParticipantConfig, SecurityFolderGivesThePluginsItsFilesAndAMissingOneIsNamed) {
+    char tmpl[] = "/tmp/df_security_XXXXXX";
+    ASSERT_NE(mkdtemp(tmpl), nullptr);
+    const std::string dir = tmpl;
+    ParticipantConfig c;
+    c.security_dir = dir;
+    c.security_identity = "a";
+    for (const char* f : {"identity_ca.pem", "permissions_ca.pem", "governance.p7s",
+                          "permissions.p7s", "a.pem"}) {
+        std::FILE* out = std::fopen((dir + "/" + f).c_str(), "w");
+        ASSERT_NE(out, nullptr);
+        std::fclose(out);
+    }
+    auto missing = domain_xml(c, true);
+    ASSERT_FALSE(missing.is_ok());
+    EXPECT_NE(missing.status().message().find(dir + "/a.key"), std::string::npos)
+        << missing.status().message();
+    std::FILE* key = std::fopen((dir + "/a.key").c_str(), "w");
+    ASSERT_NE(key, nullptr);
+    std::fclose(key);
+    auto xml = domain_xml(c, true);
+    ASSERT_TRUE(xml.is_ok()) << xml.status().message();
+    for (const std::string part :
+         {std::string(kSecurityPluginDir) + "/libdds_security_auth.so",
+          std::string(kSecurityPluginDir) + "/libdds_security_ac.so",
+          std::string(kSecurityPluginDir) + "/libdds_security_crypto.so",
+          "<IdentityCertificate>file:" + dir + "/a.pem</IdentityCertificate>",
+          "<PrivateKey>file:" + dir + "/a.key</PrivateKey>",
+          "<Governance>file:" + dir + "/governance.p7s</Governance>",
+          "<Permissions>file:" + dir + "/permissions.p7s</Permissions>"}) {
+        EXPECT_NE(xml->find(part), std::string::npos) << part << " not in " << *xml;
+    }
+    ParticipantConfig no_identity = c;
+    no_identity.security_identity = "";
+    auto refused = domain_xml(no_identity, false);
+    ASSERT_FALSE(refused.is_ok());
+    EXPECT_NE(refused.status().message().find("security_identity"), std::string::npos);
+    ParticipantConfig injected = c;
+    injected.security_dir = dir + "\"/><x";
+    EXPECT_FALSE(domain_xml(injected, false).is_ok());
+    EXPECT_EQ(domain_xml(ParticipantConfig{}, false)->find("Security"), std::string::npos)
+        << "off by default";
+    for (const char* f : {"identity_ca.pem", "permissions_ca.pem", "governance.p7s",
+                          "permissions.p7s", "a.pem", "a.key"}) {
+        std::remove((dir + "/" + f).c_str());
+    }
+    rmdir(tmpl);
 }
 
 }  // namespace
