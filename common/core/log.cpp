@@ -14,6 +14,7 @@ struct State {
     std::mutex mutex;
     Level level = Level::kInfo;
     std::string component = "df";
+    std::string status_line;  ///< the progress line shown on the terminal, "" none
     State() {
         if (const char* env = std::getenv("DF_LOG_LEVEL")) {
             std::string v(env);
@@ -66,8 +67,26 @@ void write(Level l, const std::string& message) {
     char stamp[32];
     std::strftime(stamp, sizeof stamp, "%Y-%m-%dT%H:%M:%S", &tm);
     std::lock_guard<std::mutex> lock(state().mutex);
+    // A log line goes above the progress line, which is drawn again below it.
+    if (!state().status_line.empty()) std::fputs("\r\033[K", stderr);
     std::fprintf(stderr, "%s.%03d [%s] %s: %s\n", stamp, ms, name(l), state().component.c_str(),
                  message.c_str());
+    if (!state().status_line.empty()) std::fputs(state().status_line.c_str(), stderr);
+    std::fflush(stderr);
+}
+
+void status_line(const std::string& text) {
+    std::lock_guard<std::mutex> lock(state().mutex);
+    state().status_line = text;
+    std::fprintf(stderr, "\r%s\033[K", text.c_str());
+    std::fflush(stderr);
+}
+
+void end_status_line() {
+    std::lock_guard<std::mutex> lock(state().mutex);
+    if (state().status_line.empty()) return;
+    state().status_line.clear();
+    std::fputs("\n", stderr);
     std::fflush(stderr);
 }
 

@@ -15,6 +15,11 @@ Level level();
 /// Sets the component name printed on every line of this process (e.g. "capture").
 void set_component(const std::string& name);
 void write(Level level, const std::string& message);
+/// Shows `text` as the terminal's progress line (rewritten in place; log lines print above it).
+/// Only for a terminal: see core/progress.hpp.
+void status_line(const std::string& text);
+/// Ends the progress line (a newline), if one is shown.
+void end_status_line();
 
 namespace detail {
 template <typename... Args>

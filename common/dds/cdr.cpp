@@ -14,7 +14,11 @@ constexpr uint8_t kCdrLe = 0x01;  // encapsulation id 0x0001: CDR little endian
 std::vector<uint8_t> to_cdr(const dds_topic_descriptor_t* desc, const void* sample) {
     dds_ostreamLE_t os;
     dds_ostreamLE_init(&os, desc->m_size + 64, kXcdr1);
-    dds_stream_writeLE(&os, static_cast<const char*>(sample), desc->m_ops);
+    if (dds_stream_writeLE(&os, static_cast<const char*>(sample), desc->m_ops) == nullptr) {
+        // A value the type does not allow (an enum out of range): nothing is half-written.
+        dds_ostreamLE_fini(&os);
+        return {};
+    }
     std::vector<uint8_t> out(4 + os.x.m_index);
     out[0] = 0x00;
     out[1] = kCdrLe;

@@ -11,6 +11,7 @@
 namespace df::dds {
 
 /// Serializes a sample of the descriptor's type.
+/// Empty when the sample holds a value its type does not allow (an enum out of range).
 std::vector<uint8_t> to_cdr(const dds_topic_descriptor_t* desc, const void* sample);
 
 /// Validates and deserializes CDR bytes into sample (desc->m_size bytes, zeroed by the caller).

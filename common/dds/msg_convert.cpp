@@ -1,7 +1,6 @@
 #include "dds/msg_convert.hpp"
 
 #include <algorithm>
-
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -141,6 +140,9 @@ size_t fill_object_segments(const dynamics::LabelImage& labels, const df_msg_Hea
     m->detections_seq = 0;
     m->instance_count = 0;
     m->width = m->height = 0;
+    // The unused rows too: a loaned sample holds its chunk's old bytes, and a row's enum
+    // must be valid for the sample to serialize (UDP, recordings).
+    std::memset(m->instances, 0, sizeof(m->instances));
     if (labels.labels.empty() || labels.labels.type() != CV_16UC1 ||
         labels.labels.cols > static_cast<int>(df_msg_MAX_WIDTH) ||
         labels.labels.rows > static_cast<int>(df_msg_MAX_HEIGHT))

@@ -11,6 +11,7 @@ const std::vector<TypeInfo>& all_types() {
         {"df::msg::ObjectSegments", &df_msg_ObjectSegments_desc, QosProfile::kResults},
         {"df::msg::CameraPose", &df_msg_CameraPose_desc, QosProfile::kResults},
         {"df::msg::ObjectPoses", &df_msg_ObjectPoses_desc, QosProfile::kResults},
+        {"df::msg::MapCloud", &df_msg_MapCloud_desc, QosProfile::kFrames},
         {"df::msg::StageStatus", &df_msg_StageStatus_desc, QosProfile::kStatus},
     };
     return types;

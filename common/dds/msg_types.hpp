@@ -40,6 +40,7 @@ DF_DECLARE_MSG(GeometricSegments, kResults)
 DF_DECLARE_MSG(ObjectSegments, kResults)
 DF_DECLARE_MSG(CameraPose, kResults)
 DF_DECLARE_MSG(ObjectPoses, kResults)
+DF_DECLARE_MSG(MapCloud, kFrames)
 DF_DECLARE_MSG(StageStatus, kStatus)
 #undef DF_DECLARE_MSG
 
@@ -55,6 +56,8 @@ inline constexpr const char* kCameraPose = "camera_pose";
 inline constexpr const char* kInvalidMask = "invalid_mask";
 inline constexpr const char* kObjectPoses = "object_poses";
 inline constexpr const char* kStageStatus = "stage_status";
+/// df::msg::MapCloud: the maps, thinned, at a low rate (for viewing).
+inline constexpr const char* kMapCloud = "map_cloud";
 }  // namespace topics
 
 /// "<ns>/<name>", e.g. topic_name("df", "frames") == "df/frames". Tests use a unique ns,

@@ -71,14 +71,15 @@ Result<std::string> security_xml(const ParticipantConfig& config) {
     }
     if (config.security_identity.empty() || !valid_name(config.security_identity)) {
         return Status(StatusCode::kInvalidArgument,
-                      where + ": dds.security_identity must name this participant's certificate "
-                              "in it (letters, digits and .-_:), e.g. the host's name; got '" +
+                      where +
+                          ": dds.security_identity must name this participant's certificate "
+                          "in it (letters, digits and .-_:), e.g. the host's name; got '" +
                           config.security_identity + "'");
     }
     const std::string id = config.security_identity;
-    for (const std::string f : {std::string("identity_ca.pem"), std::string("permissions_ca.pem"),
-                                std::string("governance.p7s"), std::string("permissions.p7s"),
-                                id + ".pem", id + ".key"}) {
+    for (const std::string& f : {std::string("identity_ca.pem"), std::string("permissions_ca.pem"),
+                                 std::string("governance.p7s"), std::string("permissions.p7s"),
+                                 id + ".pem", id + ".key"}) {
         const std::string path = dir + "/" + f;
         if (::access(path.c_str(), R_OK) != 0) {
             return Status(StatusCode::kInvalidArgument,
@@ -215,8 +216,8 @@ Result<Participant> Participant::create(const ParticipantConfig& config) {
         for (const auto& i : config.interfaces) network += " " + i;
     }
     const bool secure = !config.security_dir.empty() && (user_uri == nullptr || *user_uri == '\0');
-    log::info("DDS: participant in domain ", config.domain_id, ", transport ",
-              to_string(effective), ", network ", network,
+    log::info("DDS: participant in domain ", config.domain_id, ", transport ", to_string(effective),
+              ", network ", network,
               secure ? ", DDS Security as '" + config.security_identity + "' (" +
                            config.security_dir + ")"
                      : std::string());

@@ -293,6 +293,32 @@ Status check_sample(const df_msg_ObjectPoses& p) {
     return Status::ok();
 }
 
+Status check_sample(const df_msg_MapCloud& m) {
+    const char* t = "MapCloud";
+    DF_RETURN_IF_ERROR(check_status(t, m.header.status));
+    DF_RETURN_IF_ERROR(
+        at_most(t, "point_count", m.point_count, df_msg_MAX_MAP_POINTS, "MAX_MAP_POINTS"));
+    DF_RETURN_IF_ERROR(
+        at_most(t, "object_count", m.object_count, df_msg_MAX_OBJECTS, "MAX_OBJECTS"));
+    for (uint32_t i = 0; i < m.point_count; ++i) {
+        const df_msg_MapPoint& p = m.points[i];
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+            return bad(t, "points[" + str(i) + "] is not finite");
+        }
+    }
+    for (uint32_t i = 0; i < m.object_count; ++i) {
+        const df_msg_ObjectExtent& e = m.objects[i];
+        const std::string field = "objects[" + str(i) + "]";
+        DF_RETURN_IF_ERROR(check_class(t, field + ".class_id", e.class_id));
+        const float v[6] = {e.min_x, e.min_y, e.min_z, e.max_x, e.max_y, e.max_z};
+        for (float x : v) DF_RETURN_IF_ERROR(in_range(t, field + " bounds", x, -1e4, 1e4));
+        if (e.min_x > e.max_x || e.min_y > e.max_y || e.min_z > e.max_z) {
+            return bad(t, field + ": min above max");
+        }
+    }
+    return Status::ok();
+}
+
 Status check_sample(const df_msg_StageStatus& s) {
     const char* t = "StageStatus";
     DF_RETURN_IF_ERROR(check_status(t, s.header.status));
@@ -320,6 +346,8 @@ Status check_sample(const TypeInfo& type, const void* sample) {
         return check_sample(*static_cast<const df_msg_CameraPose*>(sample));
     if (d == MsgTraits<df_msg_ObjectPoses>::descriptor())
         return check_sample(*static_cast<const df_msg_ObjectPoses*>(sample));
+    if (d == MsgTraits<df_msg_MapCloud>::descriptor())
+        return check_sample(*static_cast<const df_msg_MapCloud*>(sample));
     if (d == MsgTraits<df_msg_StageStatus>::descriptor())
         return check_sample(*static_cast<const df_msg_StageStatus*>(sample));
     return error(StatusCode::kInvalidArgument,

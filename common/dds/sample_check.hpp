@@ -23,6 +23,7 @@ Status check_sample(const df_msg_GeometricSegments& segments);
 Status check_sample(const df_msg_ObjectSegments& segments);
 Status check_sample(const df_msg_CameraPose& pose);
 Status check_sample(const df_msg_ObjectPoses& poses);
+Status check_sample(const df_msg_MapCloud& cloud);
 Status check_sample(const df_msg_StageStatus& status);
 
 /// The check of the type `type` describes, for tools that handle any topic (tap).

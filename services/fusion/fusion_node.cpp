@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstring>
 #include <limits>
 
 #include "config/apply_params.hpp"
@@ -229,6 +230,9 @@ void FusionNode::write(const Segments& seg, sync::Arrival segments_arrival,
     m.detections_used = false;
     m.detections_seq = 0;
     m.instance_count = 0;
+    // The unused rows too: a loan holds its chunk's old bytes, and every row's enum must be
+    // valid for the sample to serialize (UDP to another host, recordings).
+    std::memset(m.instances, 0, sizeof(m.instances));
     m.width = m.height = 0;
     if (segments_arrival == sync::Arrival::kOk && !seg.labels.empty()) {
         std::vector<detect::Detection> boxes;
@@ -300,7 +304,7 @@ void FusionNode::write(const Segments& seg, sync::Arrival segments_arrival,
         }
     } else {
         m.header.status = segments_arrival == sync::Arrival::kSkipped ? df_msg_FRAME_SKIPPED
-                                                                     : df_msg_FRAME_FAILED;
+                                                                      : df_msg_FRAME_FAILED;
     }
     const uint32_t instances = m.instance_count;
     const bool used = m.detections_used;

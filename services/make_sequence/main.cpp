@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/log.hpp"
+#include "core/progress.hpp"
 #include "sim/sensor.hpp"
 #include "sim/sequence.hpp"
 #include "sim/writer.hpp"
@@ -85,10 +86,8 @@ int main(int argc, char** argv) {
     df::sim::WriteOptions write;
     write.threads = threads;
     write.models = !no_models;
-    write.progress = [](int done, int total) {
-        if (done % 50 == 0 || done == total)
-            df::log::info("seq=", done - 1, " rendered ", done, "/", total);
-    };
+    df::Progress progress("frames rendered", sequence->frames, 50);
+    write.progress = [&progress](int done, int) { progress.update(done); };
     const auto t0 = std::chrono::steady_clock::now();
     df::Result<df::sim::WriteReport> report =
         df::error(df::StatusCode::kInternal, "write_sequence did not run");
@@ -102,6 +101,7 @@ int main(int argc, char** argv) {
         df::log::error(report.status().to_string());
         return 1;
     }
+    progress.finish();
     const double total =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     df::log::info("wrote ", sequence->frames, " frames to ", out, " in ", total, " s (frames ",

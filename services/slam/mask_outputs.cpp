@@ -4,7 +4,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "detect/detector.hpp"
+#include "draw/pictures.hpp"
 #include "eval/plot_canvas.hpp"
 #include "io/tum/stamp.hpp"
 
@@ -25,32 +25,6 @@ cv::Mat upscale(const cv::Mat& labels, cv::Size size) {
 
 using eval::write_png;
 
-cv::Scalar tint_of(dynamics::ObjectKind kind) {
-    switch (kind) {
-        case dynamics::ObjectKind::kNonRigid:
-            return {255, 40, 40};
-        case dynamics::ObjectKind::kRigid:
-            return {40, 90, 255};
-        case dynamics::ObjectKind::kUnknown:
-            return {255, 220, 0};
-    }
-    return {255, 255, 255};
-}
-
-std::string class_name(int class_id) {
-    const auto& names = detect::coco_names();
-    return class_id >= 0 && class_id < static_cast<int>(names.size())
-               ? names[static_cast<size_t>(class_id)]
-               : std::string("object");
-}
-
-/// A colour of its own per object id (golden-angle hues), R,G,B.
-cv::Vec3b object_colour(int id) {
-    cv::Mat hsv(1, 1, CV_8UC3, cv::Scalar((id * 137) % 180, 230, 255)), rgb;
-    cv::cvtColor(hsv, rgb, cv::COLOR_HSV2RGB);
-    return rgb.at<cv::Vec3b>(0, 0);
-}
-
 /// Object map pixels tinted with the object's colour, its id and class at its centre.
 void draw_objects(const cv::Mat& object_ids, const std::vector<objects::ObjectReport>& reports,
                   cv::Mat* rgb) {
@@ -59,14 +33,14 @@ void draw_objects(const cv::Mat& object_ids, const std::vector<objects::ObjectRe
     for (const objects::ObjectReport& r : reports) {
         const cv::Mat mine = ids == static_cast<uint16_t>(r.id);
         if (cv::countNonZero(mine) == 0) continue;
-        const cv::Vec3b c = object_colour(r.id);
+        const cv::Vec3b c = draw::id_colour(r.id);
         cv::Mat tint(rgb->size(), CV_8UC3, cv::Scalar(c[0], c[1], c[2]));
         cv::Mat blended;
         cv::addWeighted(*rgb, 0.4, tint, 0.6, 0, blended);
         blended.copyTo(*rgb, mine);
         const cv::Rect box = cv::boundingRect(mine);
         cv::rectangle(*rgb, box, cv::Scalar(c[0], c[1], c[2]), 2);
-        const std::string text = "#" + std::to_string(r.id) + " " + class_name(r.class_id) +
+        const std::string text = "#" + std::to_string(r.id) + " " + draw::class_name(r.class_id) +
                                  (r.tracked ? "" : " (not tracked)");
         cv::putText(*rgb, text, box.tl() + cv::Point(2, -4), cv::FONT_HERSHEY_SIMPLEX, 0.45,
                     cv::Scalar(c[0], c[1], c[2]), 1, cv::LINE_AA);
@@ -76,34 +50,7 @@ void draw_objects(const cv::Mat& object_ids, const std::vector<objects::ObjectRe
 cv::Mat overlay(const io::RgbdImage& image, const dynamics::LabelImage& invalid, float scale,
                 const slam::FrameReport& report) {
     cv::Mat rgb = image.rgb.clone();  // R,G,B
-    cv::Mat labels = upscale(invalid.labels, rgb.size());
-    std::vector<cv::Vec3b> colour(65536, cv::Vec3b(0, 0, 0));
-    std::vector<uint8_t> has(65536, 0);
-    for (const dynamics::InstanceInfo& i : invalid.instances) {
-        const cv::Scalar t = tint_of(i.kind);
-        colour[i.id] = cv::Vec3b(uint8_t(t[0]), uint8_t(t[1]), uint8_t(t[2]));
-        has[i.id] = 1;
-    }
-    for (int y = 0; y < rgb.rows; ++y) {
-        cv::Vec3b* p = rgb.ptr<cv::Vec3b>(y);
-        const uint16_t* l = labels.ptr<uint16_t>(y);
-        for (int x = 0; x < rgb.cols; ++x) {
-            if (!has[l[x]]) continue;
-            for (int c = 0; c < 3; ++c) p[x][c] = uint8_t((p[x][c] + colour[l[x]][c]) / 2);
-        }
-    }
-    for (const dynamics::InstanceInfo& i : invalid.instances) {
-        if (i.box.width <= 0) continue;
-        const cv::Rect box(cv::Point(int(i.box.x * scale), int(i.box.y * scale)),
-                           cv::Size(int(i.box.width * scale), int(i.box.height * scale)));
-        cv::rectangle(rgb, box, tint_of(i.kind), 2);
-        std::string name =
-            i.kind == dynamics::ObjectKind::kUnknown ? "unknown mover" : class_name(i.class_id);
-        if (i.kind != dynamics::ObjectKind::kUnknown && i.score < 1.f)
-            name += " " + std::to_string(int(i.score * 100 + 0.5f)) + "%";
-        cv::putText(rgb, name, box.tl() + cv::Point(2, 14), cv::FONT_HERSHEY_SIMPLEX, 0.45,
-                    tint_of(i.kind), 1, cv::LINE_AA);
-    }
+    draw::tint_instances(invalid, scale, &rgb);
     draw_objects(report.object_ids, report.objects, &rgb);
     cv::Mat bgr;
     cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
@@ -142,8 +89,7 @@ Status MaskOutputs::write(const io::RgbdImage& image, const dynamics::FrameSegme
     // resolution) when its detections were not fresh.
     const cv::Mat& instances =
         report.carried > 0 ? report.instances.labels : segments.objects.labels;
-    DF_RETURN_IF_ERROR(
-        write_png(dir_ + "/segments/" + name + ".png", upscale(instances, size)));
+    DF_RETURN_IF_ERROR(write_png(dir_ + "/segments/" + name + ".png", upscale(instances, size)));
     DF_RETURN_IF_ERROR(
         write_png(dir_ + "/object_masks/" + name + ".png", upscale(report.object_ids, size)));
     if (overlay_) {

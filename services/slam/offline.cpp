@@ -14,6 +14,7 @@
 #include "capture.pb.h"
 #include "config/apply_params.hpp"
 #include "core/log.hpp"
+#include "core/progress.hpp"
 #include "detect/detector.hpp"
 #include "eval/segmentation.hpp"
 #include "eval/trajectory_metrics.hpp"
@@ -260,8 +261,9 @@ int run_offline(const OfflineOptions& options, const config::SlamServiceConfig& 
         // 7-Scenes' colour is not registered to its depth: every edge's intensity then differs
         // from the model's by tens of levels, which is no evidence of motion.
         system_config.dynamics.motion.min_photometric = 0.f;
-        log::info("7scenes: colour is not registered to depth, so intensity changes are no "
-                  "motion evidence (slam.motion.min_photometric 0; set it to override)");
+        log::info(
+            "7scenes: colour is not registered to depth, so intensity changes are no "
+            "motion evidence (slam.motion.min_photometric 0; set it to override)");
     }
     if (options.dynamics == "off") {
         system_config.dynamics.use_segments = false;
@@ -297,10 +299,15 @@ int run_offline(const OfflineOptions& options, const config::SlamServiceConfig& 
         return 1;
     }
     const auto start = std::chrono::steady_clock::now();
+    int64_t total = (*source)->size();
+    if (options.max_frames > 0 && (total < 0 || total > static_cast<int64_t>(options.max_frames)))
+        total = static_cast<int64_t>(options.max_frames);
+    Progress progress("frames", total, 100);
     uint64_t bad_frames = 0, seq = 0;
     bool was_lost = false;
     while (!service::stop_requested()) {
         if (options.max_frames > 0 && seq >= options.max_frames) break;
+        progress.update(static_cast<int64_t>(seq));
         io::FrameRead read = (*source)->next();
         if (read.kind == io::FrameRead::Kind::kEnd) break;
         if (read.kind == io::FrameRead::Kind::kBadFrame) {
@@ -364,12 +371,15 @@ int run_offline(const OfflineOptions& options, const config::SlamServiceConfig& 
                 " motion_px=", report->motion.mask_pixels, " (2-means ",
                 report->motion.clusters.low * 1000, "/", report->motion.clusters.high * 1000,
                 " mm, ", report->motion.dynamic_pixels, " px above, ", report->motion.segments,
-                " segments, ", report->motion.still_segments, " still, photometric > ", report->motion.photometric_threshold, ")",
+                " segments, ", report->motion.still_segments, " still, photometric > ",
+                report->motion.photometric_threshold, ")",
                 " stage2=", report->stage2_ran ? slam::to_string(report->stage2.state) : "no",
                 " objects=", objects_text(*report), " total_ms=", report->times.total_ms);
         }
         ++seq;
     }
+    progress.update(static_cast<int64_t>(seq));
+    progress.finish();
     const double wall_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const Status written = outputs->finish(*system, config.output().stable_only(), wall_s);

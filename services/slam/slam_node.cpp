@@ -71,10 +71,17 @@ Result<std::unique_ptr<SlamNode>> SlamNode::create(const config::SlamServiceConf
     auto status = dds::Writer<df_msg_StageStatus>::create(
         participant, dds::topic_name(ns, dds::topics::kStageStatus));
     if (!status) return status.status();
-    return std::unique_ptr<SlamNode>(new SlamNode(
+    std::unique_ptr<SlamNode> node(new SlamNode(
         config, system_config, std::move(*frames), std::move(objects), std::move(geometric),
         std::move(*poses), std::move(invalid), std::move(*object_poses), std::move(*status),
         std::move(*waitset), save_request));
+    if (config.map_cloud_every_frames() > 0) {
+        auto w = dds::Writer<df_msg_MapCloud>::create(participant,
+                                                      dds::topic_name(ns, dds::topics::kMapCloud));
+        if (!w) return w.status();
+        node->map_cloud_.emplace(std::move(*w));
+    }
+    return node;
 }
 
 SlamNode::SlamNode(const config::SlamServiceConfig& config, const slam::SystemConfig& system_config,
@@ -150,8 +157,8 @@ bool SlamNode::resume_from_checkpoint() {
     last_seq_ = checkpoint->last_seq;
     last_epoch_ = checkpoint->last_epoch;
     last_sensor_ns_ = checkpoint->last_sensor_ns;
-    log::info("resumed from checkpoint at seq ", checkpoint->last_seq, " (", surfels,
-              " surfels), ", system_->trajectory().size(), " poses (", carried,
+    log::info("resumed from checkpoint at seq ", checkpoint->last_seq, " (", surfels, " surfels), ",
+              system_->trajectory().size(), " poses (", carried,
               " of them appended to trajectory.txt after the checkpoint)");
     return true;
 }
@@ -320,6 +327,7 @@ void SlamNode::handle(const io::RgbdImage& image, const df_msg_Header& header,
             1e-6);
     publish_invalid(pose.header, *report, image.depth.size());
     publish_objects(pose.header, *report);
+    publish_map_cloud(pose.header);
 
     df_msg_StageStatus answer{};
     answer.header = pose.header;

@@ -54,9 +54,8 @@ class SlamNode {
              std::optional<dds::Reader<df_msg_GeometricSegments>> geometric,
              dds::Writer<df_msg_CameraPose> poses,
              std::optional<dds::Writer<df_msg_ObjectSegments>> invalid,
-             dds::Writer<df_msg_ObjectPoses> object_poses,
-             dds::Writer<df_msg_StageStatus> status, dds::WaitSet waitset,
-             std::atomic<bool>* save_request);
+             dds::Writer<df_msg_ObjectPoses> object_poses, dds::Writer<df_msg_StageStatus> status,
+             dds::WaitSet waitset, std::atomic<bool>* save_request);
     /// Takes what arrived on the three inputs into the join; false when the reader failed.
     Status take_inputs(size_t* frames_taken);
     /// Processes one frame (copied out of the sample) with its segments and publishes its
@@ -67,6 +66,8 @@ class SlamNode {
                          cv::Size frame_size);
     /// <ns>/object_poses: every live object map's pose, whether it was seen and tracked.
     void publish_objects(const df_msg_Header& header, const slam::FrameReport& report);
+    /// <ns>/map_cloud every map_cloud_every_frames frames: the maps thinned, for viewing.
+    void publish_map_cloud(const df_msg_Header& header);
     /// Answers a frame that was not processed (skipped to stay current, or failed).
     void answer_unprocessed(const df_msg_Header& header, df_msg_FrameStatus status);
     Status start_stream();
@@ -87,18 +88,20 @@ class SlamNode {
     dds::Writer<df_msg_CameraPose> poses_;
     std::optional<dds::Writer<df_msg_ObjectSegments>> invalid_;
     dds::Writer<df_msg_ObjectPoses> object_poses_;
+    std::optional<dds::Writer<df_msg_MapCloud>> map_cloud_;  ///< when map_cloud_every_frames > 0
+    uint64_t frames_since_map_cloud_ = 0;
     dds::Writer<df_msg_StageStatus> status_;
     dds::WaitSet waitset_;
     dds::RejectLog rejects_;  ///< samples that failed their check
     sync::CompanionJoin join_;
-    sync::SeqGaps frame_gaps_;  ///< frames this reader never received
-    std::map<uint64_t, PendingFrame> waiting_;              ///< frames in the join, by seq
+    sync::SeqGaps frame_gaps_;                  ///< frames this reader never received
+    std::map<uint64_t, PendingFrame> waiting_;  ///< frames in the join, by seq
     /// By seq: the instances and how old their detections are (FrameSegments::detections_age).
     std::map<uint64_t, std::pair<dynamics::LabelImage, int>> objects_in_;
     std::map<uint64_t, std::pair<cv::Mat, int>> geometric_in_;  ///< labels, count, by seq
     uint64_t join_epoch_ = 0;
     uint64_t late_segments_ = 0;
-    uint64_t late_instances_taken_ = 0;  ///< late object segments propagation took
+    uint64_t late_instances_taken_ = 0;    ///< late object segments propagation took
     std::vector<double> pose_latency_ms_;  ///< capture to pose published, tracked frames
     std::atomic<bool>* save_request_;
     std::optional<slam::SlamSystem> system_;
@@ -108,8 +111,8 @@ class SlamNode {
     uint64_t skipped_ = 0, failed_ = 0;
     bool was_lost_ = false;
     int64_t last_checkpoint_ns_ = 0;
-    bool have_last_ = false;       // a frame was processed: the three below are set
-    uint64_t last_seq_ = 0;        // of the last frame processed
+    bool have_last_ = false;  // a frame was processed: the three below are set
+    uint64_t last_seq_ = 0;   // of the last frame processed
     uint64_t last_epoch_ = 0;
     int64_t last_sensor_ns_ = 0;
     int64_t resume_after_ns_ = -1;  // frames stamped up to this were tracked before a restart

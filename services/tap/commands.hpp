@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "dds/participant.hpp"
+#include "foxglove/scene.hpp"
 #include "subscription.hpp"
 
 namespace df::tap {
@@ -11,8 +12,8 @@ namespace df::tap {
 struct CommonOptions {
     double wait_s = 5;  ///< how long to wait for a topic's writer to be discovered
     RunLimits limits;
-    int window = 100;  ///< samples in the statistics window (hz, bw, delay)
-    int depth = 16;    ///< reader history: samples kept until taken (a burst beyond it drops)
+    int window = 100;      ///< samples in the statistics window (hz, bw, delay)
+    int depth = 16;        ///< reader history: samples kept until taken (a burst beyond it drops)
     bool ok_only = false;  ///< delay: only samples whose header status is FRAME_OK
 };
 
@@ -29,6 +30,10 @@ struct RecordOptions {
     std::string ack_stage;  ///< answer each frame on <ns>/stage_status as this stage (lockstep)
     std::string ns = "df";
     bool zstd = false;
+    /// Also write Foxglove's own schemas (images, boxes, masks, transforms, map) on
+    /// "<ns>/foxglove/..." channels, for Foxglove Studio.
+    bool foxglove = false;
+    foxglove::SceneOptions scene;
 };
 int cmd_record(const dds::Participant& p, const RecordOptions& r, const CommonOptions& o);
 

@@ -110,6 +110,19 @@ int main(int argc, char** argv) {
     record->add_option("--ns", rec.ns, "namespace of the stage_status topic for --ack")
         ->default_val("df");
     record->add_flag("--zstd", rec.zstd, "compress chunks with zstd");
+    record->add_flag("--foxglove", rec.foxglove,
+                     "also write Foxglove's schemas (colour, depth, boxes, masks, transforms, "
+                     "scene, map) on <ns>/foxglove/... channels for Foxglove Studio");
+    record
+        ->add_option("--image-scale", rec.scene.image_scale,
+                     "with --foxglove: scale images by this (0, 1]")
+        ->check(CLI::Range(0.05, 1.0))
+        ->capture_default_str();
+    record
+        ->add_option("--jpeg", rec.scene.jpeg_quality,
+                     "with --foxglove: colour and masks as JPEG of this quality (0: raw)")
+        ->check(CLI::Range(0, 100))
+        ->capture_default_str();
     add_limits(record);
     df::tap::PlayOptions play;
     auto* playc = app.add_subcommand(

@@ -136,6 +136,25 @@ std::string print_sample(const dds::TypeInfo& type, const void* sample, int max_
               << "\n    surfels: " << ob.surfel_count << "\n    world_T_object:\n";
             pose(o, "      ", ob.world_T_object);
         }
+    } else if (name == "df::msg::MapCloud") {
+        const auto& m = *static_cast<const df_msg_MapCloud*>(sample);
+        header(o, m.header);
+        o << "surfel_count: " << m.surfel_count << "\npoint_count: " << m.point_count
+          << "\npoints:\n";
+        for (uint32_t i = 0;
+             i < m.point_count && i < df_msg_MAX_MAP_POINTS && i < static_cast<uint32_t>(max_items);
+             ++i) {
+            const auto& p = m.points[i];
+            o << "  - [" << p.x << ", " << p.y << ", " << p.z << "] rgb " << int(p.r) << " "
+              << int(p.g) << " " << int(p.b) << (p.source ? " object" : "") << "\n";
+        }
+        o << "object_count: " << m.object_count << "\nobjects:\n";
+        for (uint32_t i = 0; i < m.object_count && i < df_msg_MAX_OBJECTS; ++i) {
+            const auto& e = m.objects[i];
+            o << "  - object_id: " << e.object_id << "\n    class_id: " << e.class_id
+              << "\n    min: [" << e.min_x << ", " << e.min_y << ", " << e.min_z << "]"
+              << "\n    max: [" << e.max_x << ", " << e.max_y << ", " << e.max_z << "]\n";
+        }
     } else if (name == "df::msg::StageStatus") {
         const auto& s = *static_cast<const df_msg_StageStatus*>(sample);
         header(o, s.header);

@@ -11,6 +11,7 @@
 #include "dds/writer.hpp"
 #include "df_msgs_idl_text.hpp"
 #include "discovery.hpp"
+#include "foxglove_feed.hpp"
 #include "mcap/mcap_writer.hpp"
 
 namespace df::tap {
@@ -44,6 +45,43 @@ Result<std::vector<Subscription>> subscribe_all(const dds::Participant& p, const
     }
     return subs;
 }
+
+/// The Foxglove channels of a recording, made on first use: one per (namespace, view).
+class FoxgloveChannels {
+  public:
+    FoxgloveChannels(mcap::Writer& writer, const foxglove::SceneOptions& options)
+        : writer_(writer), options_(options) {}
+    /// Writes the views one sample made; `ns` is its topic's namespace.
+    Status write(const std::string& ns, const std::vector<foxglove::Message>& messages,
+                 uint32_t sequence, uint64_t log_ns) {
+        for (const foxglove::Message& m : messages) {
+            auto channel = channel_of(ns, m.channel);
+            if (!channel) return channel.status();
+            DF_RETURN_IF_ERROR(writer_.write(*channel, sequence, log_ns,
+                                             static_cast<uint64_t>(m.stamp_ns), m.data.data(),
+                                             m.data.size()));
+        }
+        return Status::ok();
+    }
+
+  private:
+    Result<uint16_t> channel_of(const std::string& ns, foxglove::Channel c) {
+        const auto key = std::make_pair(ns, static_cast<int>(c));
+        if (auto it = ids_.find(key); it != ids_.end()) return it->second;
+        const std::string prefix = ns.empty() ? "foxglove" : ns + "/foxglove";
+        const foxglove::ChannelSpec spec = foxglove::channel_spec(c, prefix, options_);
+        auto schema = writer_.add_schema(spec.schema, "omgidl", foxglove::idl_text());
+        if (!schema) return schema.status();
+        auto channel = writer_.add_channel(*schema, spec.topic, "cdr");
+        if (!channel) return channel.status();
+        ids_[key] = *channel;
+        return *channel;
+    }
+
+    mcap::Writer& writer_;
+    foxglove::SceneOptions options_;
+    std::map<std::pair<std::string, int>, uint16_t> ids_;
+};
 
 double pct(std::vector<double> v, double p) {
     if (v.empty()) return 0;
@@ -83,6 +121,14 @@ int cmd_record(const dds::Participant& p, const RecordOptions& r, const CommonOp
         ack = std::make_unique<dds::Writer<df_msg_StageStatus>>(std::move(*w));
     }
 
+    std::unique_ptr<foxglove::SceneEncoder> scene;
+    std::unique_ptr<FoxgloveChannels> views;
+    if (r.foxglove) {
+        scene = std::make_unique<foxglove::SceneEncoder>(r.scene);
+        views = std::make_unique<FoxgloveChannels>(**writer, r.scene);
+        log::info("recording Foxglove views on <ns>/foxglove/{color,depth,detections,masks,tf,",
+                  "scene,map}");
+    }
     std::map<size_t, TopicStats> stats;
     Status write_error;
     const Status s = run_loop(
@@ -91,10 +137,21 @@ int cmd_record(const dds::Participant& p, const RecordOptions& r, const CommonOp
             const uint64_t now = dds::wall_ns();
             const auto* header = static_cast<const df_msg_Header*>(sample);
             const std::vector<uint8_t> cdr = dds::to_cdr((*subs)[i].type->descriptor, sample);
+            if (cdr.empty()) {
+                log::warn("seq=", header->seq, " ", (*subs)[i].topic,
+                          ": sample not recorded, a field holds a value its type does not allow");
+                return;
+            }
             const Status w = (*writer)->write(channel_of[i], static_cast<uint32_t>(header->seq),
                                               now, static_cast<uint64_t>(info.source_timestamp),
                                               cdr.data(), cdr.size());
             if (!w && write_error.is_ok()) write_error = w;
+            if (views && has_foxglove_view(*(*subs)[i].type)) {
+                const Status v = views->write(topic_ns((*subs)[i].topic),
+                                              foxglove_view(*scene, *(*subs)[i].type, sample),
+                                              static_cast<uint32_t>(header->seq), now);
+                if (!v && write_error.is_ok()) write_error = v;
+            }
             TopicStats& st = stats[i];
             if (st.count++ == 0) st.first_ns = now;
             st.last_ns = now;

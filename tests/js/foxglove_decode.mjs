@@ -10,7 +10,9 @@
 // message and read every field at the right offset.
 // Prints JSON: per channel its topic, schema, message counts and, per decoded message, the header
 // (uint64 as decimal strings) and, for df::msg::RgbdFrame, image size, intrinsics and sha256 of
-// the used part of rgb (width*height*3 bytes) and depth (width*height uint16, little endian).
+// the used part of rgb (width*height*3 bytes) and depth (width*height uint16, little endian); for
+// camera poses, detections and object poses their values; for Foxglove's own schemas (foxglove::*,
+// written by df_tap record --foxglove) the fields Studio's panels read, image data as sha256.
 // Fails (exit 1, reason on stderr) on any schema that Foxglove would reject or any decode error.
 import { open } from "node:fs/promises";
 
@@ -72,6 +74,71 @@ function describeFrame(m) {
   };
 }
 
+const time = (t) => ({ sec: t.sec, nsec: t.nsec });
+const describeRgba = (c) => [c.r, c.g, c.b, c.a];
+
+/** Foxglove's own schemas (df_tap record --foxglove): what Studio's panels read of them. */
+const describeFoxglove = {
+  "foxglove::RawImage": (m) => ({
+    timestamp: time(m.timestamp),
+    frame_id: m.frame_id,
+    width: m.width,
+    height: m.height,
+    encoding: m.encoding,
+    step: m.step,
+    dataLength: m.data.length,
+    dataSha256: sha256(m.data),
+  }),
+  "foxglove::CompressedImage": (m) => ({
+    timestamp: time(m.timestamp),
+    frame_id: m.frame_id,
+    format: m.format,
+    dataLength: m.data.length,
+    dataSha256: sha256(m.data),
+  }),
+  "foxglove::ImageAnnotations": (m) => ({
+    points: m.points.map((p) => ({
+      timestamp: time(p.timestamp),
+      type: p.type,
+      points: p.points.map((q) => [q.x, q.y]),
+      outline_color: describeRgba(p.outline_color),
+      thickness: p.thickness,
+    })),
+    texts: m.texts.map((t) => ({ text: t.text, position: [t.position.x, t.position.y] })),
+  }),
+  "foxglove::FrameTransform": (m) => ({
+    timestamp: time(m.timestamp),
+    parent_frame_id: m.parent_frame_id,
+    child_frame_id: m.child_frame_id,
+    translation: [m.translation.x, m.translation.y, m.translation.z],
+    rotation: [m.rotation.x, m.rotation.y, m.rotation.z, m.rotation.w],
+  }),
+  "foxglove::PointCloud": (m) => ({
+    timestamp: time(m.timestamp),
+    frame_id: m.frame_id,
+    point_stride: m.point_stride,
+    fields: m.fields.map((f) => ({ name: f.name, offset: f.offset, type: f.type })),
+    dataLength: m.data.length,
+    dataSha256: sha256(m.data),
+  }),
+  "foxglove::SceneUpdate": (m) => ({
+    deletions: m.deletions.map((d) => ({ type: d.type, id: d.id })),
+    entities: m.entities.map((e) => ({
+      id: e.id,
+      frame_id: e.frame_id,
+      frame_locked: e.frame_locked,
+      cubes: e.cubes.map((c) => ({
+        position: [c.pose.position.x, c.pose.position.y, c.pose.position.z],
+        size: [c.size.x, c.size.y, c.size.z],
+      })),
+      lines: e.lines.map((l) => ({ type: l.type, points: l.points.length })),
+      texts: e.texts.map((t) => t.text),
+    })),
+  }),
+};
+
+const describePose = (p) => ({ t: [p.tx, p.ty, p.tz], q: [p.qx, p.qy, p.qz, p.qw] });
+
 async function main() {
   const args = process.argv.slice(2);
   const maxAt = args.indexOf("--max");
@@ -106,8 +173,38 @@ async function main() {
             `from the recorded ${m.data.length} bytes (schema does not match the recorded layout?)`,
         );
       }
-      const out = { header: describeHeader(decoded.header) };
+      const out = decoded.header ? { header: describeHeader(decoded.header) } : {};
+      out.sequence = m.sequence;
       if (c.out.schema === "df::msg::RgbdFrame") Object.assign(out, describeFrame(decoded));
+      if (c.out.schema === "df::msg::CameraPose") {
+        Object.assign(out, { state: decoded.state, world_T_camera: describePose(decoded.world_T_camera) });
+      }
+      if (c.out.schema === "df::msg::Detections") {
+        out.boxes = [...decoded.boxes].slice(0, decoded.count).map((b) => [b.x, b.y, b.w, b.h, b.class_id]);
+        out.image_width = decoded.image_width;
+      }
+      if (c.out.schema === "df::msg::ObjectPoses") {
+        out.objects = [...decoded.objects].slice(0, decoded.count).map((o) => ({
+          object_id: o.object_id,
+          world_T_object: describePose(o.world_T_object),
+        }));
+      }
+      if (c.out.schema === "df::msg::MapCloud") {
+        const pts = [...decoded.points].slice(0, decoded.point_count);
+        out.point_count = decoded.point_count;
+        out.first_points = pts.slice(0, 3).map((p) => [p.x, p.y, p.z, p.r, p.g, p.b]);
+        out.objects = [...decoded.objects].slice(0, decoded.object_count).map((o) => o.object_id);
+      }
+      if (c.out.schema === "foxglove::PointCloud") {
+        const view = new DataView(decoded.data.buffer, decoded.data.byteOffset, decoded.data.byteLength);
+        out.first_points = [];
+        for (let i = 0; i < Math.min(3, decoded.data.length / decoded.point_stride); ++i) {
+          const o = i * decoded.point_stride;
+          out.first_points.push([view.getFloat32(o, true), view.getFloat32(o + 4, true),
+            view.getFloat32(o + 8, true), decoded.data[o + 12], decoded.data[o + 13], decoded.data[o + 14]]);
+        }
+      }
+      if (c.out.schema in describeFoxglove) Object.assign(out, describeFoxglove[c.out.schema](decoded));
       c.out.decoded++;
       c.out.decodedMessages.push(out);
     }

@@ -123,3 +123,30 @@ Result<cv::Mat> load_depth(const std::string& path, const SizeRule& size) {
 }
 
 }  // namespace df::io::detail
+
+namespace df::io {
+
+Result<RgbdImage> read_rgbd_files(const std::string& color, const std::string& depth,
+                                  const Intrinsics& intrinsics, double depth_units_per_m) {
+    RgbdImage image;
+    auto d = detail::load_depth(depth, detail::SizeRule{});
+    if (!d) return Status(d.status().code(), depth + ": " + d.status().message());
+    image.depth = std::move(*d);
+    if (!color.empty()) {
+        detail::SizeRule same;
+        same.width = image.depth.cols;
+        same.height = image.depth.rows;
+        auto c = detail::load_rgb(color, same);
+        if (!c) return Status(c.status().code(), color + ": " + c.status().message());
+        image.rgb = std::move(*c);
+    } else {
+        image.rgb = cv::Mat(image.depth.size(), CV_8UC3, cv::Scalar(128, 128, 128));
+    }
+    image.intrinsics = intrinsics;
+    image.depth_units_per_m = depth_units_per_m;
+    image.rgb_path = color;
+    image.depth_path = depth;
+    return image;
+}
+
+}  // namespace df::io

@@ -21,6 +21,13 @@ namespace df::io {
 /// Returns kInvalidArgument naming the known presets for an unknown name.
 Result<Intrinsics> intrinsics_preset(const std::string& name);
 
+/// One frame from two picture files (e.g. a TUM folder's rgb/<stamp>.png and depth/<stamp>.png):
+/// depth 16-bit 1-channel in raw units (depth_units_per_m per metre), colour 8-bit (grey, B,G,R or
+/// B,G,R,A; returned R,G,B) of the depth's size, at most kMaxWidth x kMaxHeight. An empty `color`
+/// gives a grey colour image. Errors start with the file's path and say what was wrong.
+Result<RgbdImage> read_rgbd_files(const std::string& color, const std::string& depth,
+                                  const Intrinsics& intrinsics, double depth_units_per_m);
+
 struct TumFolderConfig {
     std::string folder;
     Intrinsics intrinsics;              ///< pixels
