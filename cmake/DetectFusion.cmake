@@ -59,3 +59,17 @@ if(DF_FUZZ)
   endif()
   add_compile_options(-fsanitize=fuzzer-no-link)
 endif()
+
+# df_export_library(target name): installs a DDS-free library into the export set of the
+# DetectFusion package (lib/, headers under include/detectfusion/), so that a project doing
+# find_package(DetectFusion) links it as DetectFusion::<name> (docs/library.md, the table of
+# names). cmake/DetectFusionPackage.cmake installs the export set and the package config.
+include(GNUInstallDirs)
+set(DF_INSTALL_INCLUDEDIR ${CMAKE_INSTALL_INCLUDEDIR}/detectfusion)
+function(df_export_library target name)
+  set_target_properties(${target} PROPERTIES EXPORT_NAME ${name})
+  install(TARGETS ${target} EXPORT DetectFusionTargets
+    ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+    LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+    INCLUDES DESTINATION ${DF_INSTALL_INCLUDEDIR})
+endfunction()
