@@ -57,8 +57,8 @@ poses=$(grep -vc '^#' "$TMP/trajectory.txt" || true)
 [ "$poses" -eq $FRAMES ] || fail "$poses of $FRAMES poses in the trajectory"
 "$BUILD/bin/df_eval" ate "$TMP/seq/groundtruth.txt" "$TMP/trajectory.txt" --json "$TMP/ate.json" \
   >"$TMP/ate.log" 2>&1 || fail "df_eval ate: $(tail -3 "$TMP/ate.log")"
-rmse=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['ate']['translation_m']['rmse'])" \
+rmse=$(/usr/bin/python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['ate']['translation_m']['rmse'])" \
   "$TMP/ate.json")
-python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) < 0.02 else 1)" "$rmse" \
+/usr/bin/python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) < 0.02 else 1)" "$rmse" \
   || fail "ATE RMSE $rmse m >= 0.02 m"
 echo "ok: the example built against the installed package tracked $FRAMES frames, ATE RMSE $rmse m"
