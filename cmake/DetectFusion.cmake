@@ -59,3 +59,47 @@ if(DF_FUZZ)
   endif()
   add_compile_options(-fsanitize=fuzzer-no-link)
 endif()
+
+# df_export_libraries(df_x=name ...): installs DDS-free libraries into the export set of the
+# DetectFusion package (lib/, headers under include/detectfusion/), so that a project doing
+# find_package(DetectFusion) links df_x as DetectFusion::<name> (docs/library.md, the table of
+# names). Entries whose target this build lacks (df_detect with DF_WITH_DETECT=OFF) are skipped.
+# The set is closed over what the libraries link: a project library they link and the list does
+# not name (a part added later) is installed too, as DetectFusion::<its name without "df_">;
+# one of the DDS layer stops the configuration. cmake/DetectFusionPackage.cmake installs the
+# export set and the package config.
+include(GNUInstallDirs)
+set(DF_INSTALL_INCLUDEDIR ${CMAKE_INSTALL_INCLUDEDIR}/detectfusion)
+function(df_export_libraries)
+  set(pending ${ARGN})
+  set(exported "")
+  set(names "")
+  while(pending)
+    list(POP_FRONT pending entry)
+    string(REPLACE "=" ";" entry "${entry}")
+    list(GET entry 0 target)
+    list(GET entry 1 name)
+    if(NOT TARGET ${target} OR target IN_LIST exported)
+      continue()
+    endif()
+    if(target MATCHES "^df_(dds|service|msgs|msgs_c|io_openni)$" OR name IN_LIST names)
+      message(FATAL_ERROR "the installed libraries would include ${target} as DetectFusion::${name}"
+                          " (the DDS layer, or a name taken): see common/CMakeLists.txt")
+    endif()
+    set_target_properties(${target} PROPERTIES EXPORT_NAME ${name})
+    install(TARGETS ${target} EXPORT DetectFusionTargets
+      ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+      LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+      INCLUDES DESTINATION ${DF_INSTALL_INCLUDEDIR})
+    list(APPEND exported ${target})
+    list(APPEND names ${name})
+    # A static library's private dependencies are there too, as $<LINK_ONLY:...>.
+    get_target_property(links ${target} INTERFACE_LINK_LIBRARIES)
+    foreach(link IN LISTS links)
+      string(REGEX REPLACE "^\\$<LINK_ONLY:(.*)>$" "\\1" link "${link}")
+      if(link MATCHES "^df_(.*)$" AND TARGET ${link} AND NOT link IN_LIST exported)
+        list(APPEND pending "${link}=${CMAKE_MATCH_1}")
+      endif()
+    endforeach()
+  endwhile()
+endfunction()

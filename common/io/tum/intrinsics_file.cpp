@@ -63,4 +63,26 @@ Result<IntrinsicsFile> read_intrinsics_file(const std::string& file) {
     return out;
 }
 
+Result<TumFolderConfig> tum_folder_config(const std::string& folder, const std::string& preset) {
+    TumFolderConfig config;
+    config.folder = folder;
+    auto file = read_intrinsics_file(folder + "/intrinsics.txt");
+    if (file) {
+        config.intrinsics = file->intrinsics;
+        config.width = file->width;
+        config.height = file->height;
+        config.depth_units_per_m = file->depth_units_per_m;
+        return config;
+    }
+    if (file.status().code() != StatusCode::kNotFound) return file.status();
+    auto intrinsics = intrinsics_preset(preset);
+    if (!intrinsics) return intrinsics.status();
+    config.intrinsics = *intrinsics;
+    if (preset == "7scenes") {
+        config.depth_units_per_m = 1000.0;
+        config.depth_invalid_value = 65535;
+    }
+    return config;
+}
+
 }  // namespace df::io

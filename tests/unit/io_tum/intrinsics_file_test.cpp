@@ -9,8 +9,8 @@
 namespace df::io {
 namespace {
 
-using test::TempFolder;
 using test::contains;
+using test::TempFolder;
 using test::write_file;
 
 TEST(IntrinsicsFile, ReadsWhatDfMakeSequenceWrites) {
@@ -57,6 +57,41 @@ TEST(IntrinsicsFile, MissingEmptyAndFolder) {
     EXPECT_TRUE(
         contains(read_intrinsics_file(tmp / "empty.txt").status().message(), "no intrinsics line"));
     EXPECT_EQ(read_intrinsics_file(tmp.str()).status().code(), StatusCode::kIoError);
+}
+
+TEST(TumFolderConfig, TakesTheFolderIntrinsicsFileOverThePreset) {
+    TempFolder tmp;
+    write_file(tmp / "intrinsics.txt", "300 310 160 120 320 240 1000\n");
+    auto config = tum_folder_config(tmp.str(), "fr1");
+    ASSERT_TRUE(config) << config.status().message();
+    EXPECT_EQ(config->folder, tmp.str());
+    EXPECT_DOUBLE_EQ(config->intrinsics.fx, 300);
+    EXPECT_DOUBLE_EQ(config->intrinsics.cy, 120);
+    EXPECT_EQ(config->width, 320);
+    EXPECT_EQ(config->height, 240);
+    EXPECT_DOUBLE_EQ(config->depth_units_per_m, 1000);
+}
+
+TEST(TumFolderConfig, WithoutAnIntrinsicsFileThePresetHolds) {
+    TempFolder tmp;
+    auto fr1 = tum_folder_config(tmp.str(), "fr1");
+    ASSERT_TRUE(fr1) << fr1.status().message();
+    EXPECT_DOUBLE_EQ(fr1->intrinsics.fx, 517.3);
+    EXPECT_DOUBLE_EQ(fr1->depth_units_per_m, 5000);
+    EXPECT_EQ(fr1->width, 0);  // the first image's size
+    auto scenes = tum_folder_config(tmp.str(), "7scenes");
+    ASSERT_TRUE(scenes) << scenes.status().message();
+    EXPECT_DOUBLE_EQ(scenes->depth_units_per_m, 1000);
+    EXPECT_EQ(scenes->depth_invalid_value, 65535);
+    EXPECT_TRUE(contains(tum_folder_config(tmp.str(), "fr9").status().message(), "fr9"));
+}
+
+TEST(TumFolderConfig, ABadIntrinsicsFileIsAnErrorNotThePreset) {
+    TempFolder tmp;
+    write_file(tmp / "intrinsics.txt", "300 310 160 120 320 240 -1\n");
+    auto config = tum_folder_config(tmp.str());
+    ASSERT_FALSE(config);
+    EXPECT_TRUE(contains(config.status().message(), "intrinsics.txt:1: depth_units_per_m is -1"));
 }
 
 }  // namespace
