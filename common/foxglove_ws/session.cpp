@@ -222,8 +222,15 @@ Session::Queued Session::queue_message_data(
     if (subscription_id == nullptr) return Queued::kNotSubscribed;
     const size_t bytes = kMessageDataHeaderSize + payload->size();
     if (queued_data_bytes_ > 0 && queued_data_bytes_ + bytes > max_queued_bytes) {
+        if (!dropping_) {
+            log::warn("foxglove ws: client ", peer_, " is slow: ", queued_data_bytes_,
+                      " bytes queued, dropping its messages until the queue drains");
+        }
+        dropping_ = true;
         return Queued::kDropped;
     }
+    if (dropping_) log::info("foxglove ws: client ", peer_, " takes messages again");
+    dropping_ = false;
     Outgoing message;
     message.header = message_data_header(*subscription_id, log_time_ns);
     message.payload = payload;

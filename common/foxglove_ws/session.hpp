@@ -90,6 +90,7 @@ class Session : public std::enable_shared_from_this<Session> {
     bool writing_ = false;        // an async write is in flight (or posted)
     std::deque<Outgoing> queue_;  // front = being written
     size_t queued_data_bytes_ = 0;
+    bool dropping_ = false;  // the last message data was dropped (logged once per episode)
     std::map<uint32_t, uint32_t> channel_of_subscription_;
 };
 
