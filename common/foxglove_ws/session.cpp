@@ -323,16 +323,16 @@ void Session::on_write(beast::error_code ec) {
 }
 
 void Session::close() {
-    bool busy = false;
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        closed_ = true;
-        busy = writing_;
+        closed_ = true;  // nothing new is queued or started
     }
-    if (busy || !ws_.is_open()) {
+    if (!ws_.is_open()) {  // still in the HTTP upgrade
         close_now();
         return;
     }
+    // Beast sends the close frame after a write in flight; a write that never ends (a stalled
+    // client) is ended by the server's close_now() after its grace period.
     ws_.async_close(websocket::close_code::going_away,
                     [self = shared_from_this()](beast::error_code) {});
 }

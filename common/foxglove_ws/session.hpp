@@ -36,8 +36,8 @@ class Session : public std::enable_shared_from_this<Session> {
     /// Reads the upgrade request; refuses it (HTTP 400) unless it is a WebSocket upgrade offering
     /// kSubprotocol, else completes the handshake and opens the session in the server state.
     void run();
-    /// Ends the connection: a close frame when nothing is being written, else the socket is
-    /// closed at once (a stalled client would never take the close frame). I/O thread only.
+    /// Ends the connection with a close frame (going away), sent after any write in flight; the
+    /// caller ends a client that never takes it with close_now(). I/O thread only.
     void close();
     /// Closes the socket without a close frame. I/O thread only.
     void close_now();

@@ -35,7 +35,7 @@ std::string new_session_id() {
 }  // namespace
 
 struct WebSocketServer::Impl {
-    Impl(const ServerOptions& options) : state(options, new_session_id()) {}
+    explicit Impl(const ServerOptions& options) : state(options, new_session_id()) {}
 
     void accept_next();
     void stop();

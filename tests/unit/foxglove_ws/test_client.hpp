@@ -85,8 +85,11 @@ class TestClient {
     /// Reads one message and returns the error (e.g. websocket::error::closed once closed).
     beast::error_code read_error(std::chrono::seconds timeout = kTimeout) {
         buffer_.consume(buffer_.size());
-        return run([&](auto done) { ws_.async_read(buffer_, done); }, timeout);
+        last_read_error_ = run([&](auto done) { ws_.async_read(buffer_, done); }, timeout);
+        return last_read_error_;
     }
+    /// The result of the last read (e.g. why read_data() gave nullopt).
+    beast::error_code last_read_error() const { return last_read_error_; }
     websocket::close_reason close_reason() const { return ws_.reason(); }
 
     bool send_text(const std::string& text) {
@@ -124,6 +127,7 @@ class TestClient {
     websocket::response_type response_;
     beast::flat_buffer buffer_;
     std::string error_;
+    beast::error_code last_read_error_;
 };
 
 }  // namespace df::foxglove::test

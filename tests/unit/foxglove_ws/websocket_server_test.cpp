@@ -309,5 +309,24 @@ TEST(WebSocketServer, DestructorSendsCloseToClients) {
     EXPECT_EQ(client->close_reason().code, websocket::close_code::going_away);
 }
 
+TEST(WebSocketServer, DestructorEndsAStalledClient) {
+    auto server = start_server(2u << 20);
+    ASSERT_TRUE(server);
+    const uint32_t color = server->add_channel(kColor);
+    auto stalled = connect_client(server->port());
+    ASSERT_TRUE(subscribe(*stalled, *server, 1, color));
+    for (uint32_t seq = 0; seq < 32; ++seq) server->publish(color, seq, pattern(seq, 1u << 20));
+    server.reset();  // a write to `stalled` is stuck: the socket is closed after the grace period
+
+    // What reached the socket before is intact; then the connection ends (no hang, no timeout).
+    for (int i = 0; i < 64; ++i) {
+        auto data = stalled->read_data();
+        if (!data) break;
+        EXPECT_EQ(data->payload, *pattern(seq_of(data->payload), 1u << 20));
+    }
+    EXPECT_TRUE(stalled->last_read_error());
+    EXPECT_NE(stalled->last_read_error(), boost::beast::error::timeout);
+}
+
 }  // namespace
 }  // namespace df::foxglove
