@@ -12,6 +12,7 @@ APT_PACKAGES=(
   iproute2 nftables  # two hosts on one machine (tests/two_hosts/netns.sh): namespaces, loss
   libgtest-dev libgmock-dev libbenchmark-dev
   nlohmann-json3-dev libcli11-dev libzstd-dev liblz4-dev libnanoflann-dev zlib1g-dev
+  libboost-dev  # Beast + Asio (header-only): the Foxglove WebSocket server, common/foxglove_ws
   python3 python3-protobuf python3-numpy python3-matplotlib
   darknet
   clang libclang-rt-14-dev  # sanitizer build and fuzz targets (deploy/test.sh)
