@@ -50,7 +50,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 # Reinstalled whenever package-lock.json changes (exact versions, no scripts run).
 js="$here/tests/js"
 if [ -f "$js/package-lock.json" ] && ! cmp -s "$js/package-lock.json" "$js/node_modules/.df-installed-lock"; then
-  echo "[setup] installing npm packages for tests/js (@mcap/core, @foxglove/omgidl-*)"
+  echo "[setup] installing npm packages for tests/js (@mcap/core, @foxglove/omgidl-*, @foxglove/ws-protocol, ws)"
   (cd "$js" && npm ci --ignore-scripts --no-audit --no-fund --loglevel=error)
   cp "$js/package-lock.json" "$js/node_modules/.df-installed-lock"
 fi

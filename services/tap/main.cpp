@@ -1,5 +1,5 @@
 // df_tap: look into the pipeline's topics (the `ros2 topic` of DetectFusion).
-//   df_tap list | echo T | hz T | bw T | delay T | record -o F [T...] | play F
+//   df_tap list | echo T | hz T | bw T | delay T | record -o F [T...] | play F | bridge
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
@@ -33,7 +33,9 @@ int cmd_list(const dds::Participant& p, double wait_s) {
 
 int main(int argc, char** argv) {
     df::log::set_component("tap");
-    CLI::App app{"df_tap: list, echo, hz, bw, delay, record and play DetectFusion topics"};
+    CLI::App app{
+        "df_tap: list, echo, hz, bw, delay, record and play DetectFusion topics; bridge them to "
+        "Foxglove Studio"};
     app.require_subcommand(1);
     app.fallthrough();  // --wait, --domain... may follow the subcommand
     // CLI11's NonNegativeNumber lets nan through; seconds and rates must be finite and >= 0.
@@ -140,6 +142,42 @@ int main(int argc, char** argv) {
     playc->add_option("--start-wait", play.start_wait_s, "seconds to wait for those readers")
         ->default_val(5)
         ->check(finite_non_negative);
+    df::tap::BridgeOptions bridge;
+    auto* bridgec = app.add_subcommand(
+        "bridge",
+        "serve the pipeline live to Foxglove Studio (Foxglove WebSocket protocol): colour with "
+        "boxes, masks, depth, camera and object frames, scene, map");
+    bridgec->add_option("--ns", bridge.ns, "namespace of the pipeline's topics")
+        ->capture_default_str();
+    bridgec
+        ->add_option("--address", bridge.address,
+                     "listen on this address only (0.0.0.0: every interface)")
+        ->capture_default_str();
+    bridgec->add_option("--port", bridge.port, "TCP port (0: any free one)")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 65535));
+    bridgec->add_option("--image-scale", bridge.scene.image_scale, "scale images by this (0, 1]")
+        ->check(CLI::Range(0.05, 1.0))
+        ->capture_default_str();
+    bridgec
+        ->add_option("--jpeg", bridge.scene.jpeg_quality,
+                     "colour and masks as JPEG of this quality (0: raw rgb8, ~27 MB/s at 30 Hz)")
+        ->check(CLI::Range(0, 100))
+        ->capture_default_str();
+    bridgec->add_flag("--depth-image", bridge.scene.depth,
+                      "also serve the depth image (raw 16-bit, ~18 MB/s at 30 Hz full size)");
+    bridgec
+        ->add_option("--map-period", bridge.map_period_s,
+                     "seconds between map clouds served (SLAM publishes one every "
+                     "map_cloud_every_frames frames)")
+        ->check(finite_non_negative)
+        ->capture_default_str();
+    bridgec
+        ->add_option("--max-queue-mb", bridge.max_queue_mb,
+                     "per client: messages beyond this many MB queued are dropped for it")
+        ->check(CLI::Range(0.1, 1024.0))
+        ->capture_default_str();
+    add_limits(bridgec);
     CLI11_PARSE(app, argc, argv);
 
     df::service::install_stop_handlers();
@@ -164,5 +202,6 @@ int main(int argc, char** argv) {
     if (*delay) return df::tap::cmd_delay(p, topic, common);
     if (*record) return df::tap::cmd_record(p, rec, common);
     if (*playc) return df::tap::cmd_play(p, play);
+    if (*bridgec) return df::tap::cmd_bridge(p, bridge, common);
     return 2;
 }
