@@ -19,6 +19,8 @@ class Progress {
 
     /// `done` items are done.
     void update(int64_t done);
+    /// The total, once it is known.
+    void set_total(int64_t total) { total_ = total; }
     /// Ends the terminal line (called by the destructor too).
     void finish();
 

@@ -4,6 +4,7 @@
 /// (greedy, largest IoU first, a match needs IoU >= match_iou; with match_iou >= 0.5 a match is
 /// unique anyway, since the segments of a label image are disjoint). See docs/evaluation.md.
 #include <opencv2/core.hpp>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,9 @@ struct SegmentationConfig {
     /// left out of the ground truth (a segment on it then counts as a false positive).
     /// 0: every frame where it is visible.
     double moving_min_m = 0;
+    /// Called after each ground-truth frame of score_segmentation_folders (done, total); may be
+    /// empty.
+    std::function<void(int, int)> progress;
 };
 
 /// One ground-truth instance in one frame and the predicted segment matched to it.

@@ -200,6 +200,9 @@ Result<SegmentationResult> score_segmentation_folders(const std::string& gt_sequ
                 DF_RETURN_IF_ERROR(scorer.add_frame(*gt, pred, (*gt_files)[i].path));
             }
         }
+        if (config.progress) {
+            config.progress(static_cast<int>(i + 1), static_cast<int>(gt_files->size()));
+        }
     }
     for (size_t k = matches.size(); k < pred_files->size(); ++k) scorer.add_unpaired_prediction();
     return scorer.result();

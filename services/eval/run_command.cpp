@@ -6,6 +6,7 @@
 
 #include "commands.hpp"
 #include "core/log.hpp"
+#include "core/progress.hpp"
 #include "eval/plots.hpp"
 #include "eval/report.hpp"
 #include "eval/timing.hpp"
@@ -254,8 +255,14 @@ void score_masks(const fs::path& seq, const fs::path& run, const RunOptions& opt
         report->skip("segmentation: no " + pred_dir.string());
         return;
     }
-    auto seg =
-        eval::score_segmentation_folders(seq.string(), pred_dir.string(), options.segmentation);
+    eval::SegmentationConfig config = options.segmentation;
+    Progress progress("frames scored (segmentation)", -1, 200);
+    config.progress = [&progress](int done, int total) {
+        progress.set_total(total);
+        progress.update(done);
+    };
+    auto seg = eval::score_segmentation_folders(seq.string(), pred_dir.string(), config);
+    progress.finish();
     if (!seg) return report->fail("segmentation", seg.status());
     std::fputs(eval::format_segmentation(*seg, "Segmentation").c_str(), stdout);
     report->doc["segmentation"] = eval::to_json(*seg);

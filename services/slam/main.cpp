@@ -104,6 +104,10 @@ int main(int argc, char** argv) {
     offline->add_flag("--overlay", options.overlay,
                       "also write overlay/<stamp>.png: the colour image with what was left out "
                       "tinted, boxes and class names drawn");
+    offline->add_option("--foxglove", options.foxglove,
+                        "also write the run as Foxglove views to this MCAP file (colour with "
+                        "boxes, masks, depth, camera and object frames, scene, map every "
+                        "map_cloud_every_frames frames): docs/viewing.md");
     offline->add_option("--groundtruth", options.groundtruth,
                         "ground truth for the ATE (default: <folder>/groundtruth.txt)");
 

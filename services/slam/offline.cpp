@@ -15,6 +15,7 @@
 #include "config/apply_params.hpp"
 #include "core/log.hpp"
 #include "core/progress.hpp"
+#include "foxglove_output.hpp"
 #include "detect/detector.hpp"
 #include "eval/segmentation.hpp"
 #include "eval/trajectory_metrics.hpp"
@@ -278,6 +279,15 @@ int run_offline(const OfflineOptions& options, const config::SlamServiceConfig& 
         log::error(segmenter.status().message());
         return 1;
     }
+    std::optional<FoxgloveOutput> views;
+    if (!options.foxglove.empty()) {
+        auto v = FoxgloveOutput::open(options.foxglove, config.map_cloud_every_frames());
+        if (!v) {
+            log::error("--foxglove: ", v.status().message());
+            return 1;
+        }
+        views.emplace(std::move(*v));
+    }
     std::optional<MaskOutputs> masks;
     if (options.write_masks && options.dynamics == "on") {
         auto m = MaskOutputs::open(options.out_dir, options.overlay);
@@ -340,6 +350,12 @@ int run_offline(const OfflineOptions& options, const config::SlamServiceConfig& 
         outputs->add(seq, *report);
         if (!report->segments_error.empty())
             log::warn("seq=", seq, " segments not used: ", report->segments_error);
+        if (views) {
+            if (Status w = views->write(seq, read.image, *segments, *report, *system); !w) {
+                log::error("seq=", seq, " --foxglove: ", w.message(), "; no more views written");
+                views.reset();
+            }
+        }
         if (masks) {
             if (Status w = masks->write(read.image, *segments, *report,
                                         system_config.system.processing_downscale);
@@ -380,6 +396,10 @@ int run_offline(const OfflineOptions& options, const config::SlamServiceConfig& 
     }
     progress.update(static_cast<int64_t>(seq));
     progress.finish();
+    if (views) {
+        if (Status c = views->close(); !c) log::error("--foxglove: ", c.message());
+        else log::info("Foxglove views of the run in ", options.foxglove);
+    }
     const double wall_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const Status written = outputs->finish(*system, config.output().stable_only(), wall_s);

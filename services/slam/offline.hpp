@@ -34,6 +34,8 @@ struct OfflineOptions {
     int detect_every = 1;
     bool write_masks = true;  ///< per-frame label PNGs (mask_outputs.hpp)
     bool overlay = false;     ///< and overlay pictures
+    /// Also write the run's Foxglove views to this MCAP file ("" none; foxglove_output.hpp).
+    std::string foxglove;
 };
 
 /// Runs to the end of the folder; returns the process exit code (0 ok, 1 failure).

@@ -109,3 +109,37 @@ expect_error 1 "$TMP/text.jpg: cannot decode image" \
 expect_error 2 "needs --color" "$BIN/df_fusion" --depth "$TMP/seq/depth/$frame.png"
 expect_error 1 "unknown intrinsics preset 'fr9'" "$BIN/df_geoseg" --depth "$TMP/seq/depth/$frame.png" --preset fr9
 pass "missing, wrong-type and corrupt frame files and a bad preset named"
+
+# df_slam offline --foxglove: the run as Foxglove views in one MCAP file (zstd, JPEG), decoded by
+# Foxglove's own reader; the camera transforms are the trajectory the run wrote.
+"$BIN/df_slam" offline "$TMP/seq" -o "$TMP/offline" --detector simulated --max-frames 12 \
+  --set 'map_cloud_every_frames: 5' --foxglove "$TMP/run.mcap" >"$TMP/offline.out" 2>"$TMP/offline.err" \
+  || fail "df_slam offline --foxglove failed: $(tail -3 "$TMP/offline.err")"
+node "$SRC/tests/js/foxglove_decode.mjs" "$TMP/run.mcap" >"$TMP/run.json" \
+  || fail "Foxglove's decoder rejects the offline run's views"
+/usr/bin/python3 - "$TMP/run.json" "$TMP/offline/trajectory.txt" <<'PY' || exit 1
+import json, sys
+ch = {c["topic"]: c for c in json.load(open(sys.argv[1]))["channels"]}
+traj = {round(float(l.split()[0]) * 1e9): [float(x) for x in l.split()[1:]] for l in open(sys.argv[2]) if l.strip() and not l.startswith("#")}
+def fail(m):
+    print("FAIL:", m); sys.exit(1)
+want = {"color": "foxglove::CompressedImage", "depth": "foxglove::RawImage", "masks": "foxglove::CompressedImage",
+        "detections": "foxglove::ImageAnnotations", "tf": "foxglove::FrameTransform", "scene": "foxglove::SceneUpdate",
+        "map": "foxglove::PointCloud"}
+for k, s in want.items():
+    c = ch.get(f"df/foxglove/{k}")
+    if c is None or c["schema"] != s: fail(f"df/foxglove/{k}: {c and c['schema']}, want {s}")
+if ch["df/foxglove/color"]["messages"] != 12 or ch["df/foxglove/depth"]["messages"] != 12: fail("not 12 images")
+if any(m["format"] != "jpeg" or m["dataLength"] < 1000 for m in ch["df/foxglove/color"]["decodedMessages"]): fail("colour not JPEG")
+cams = [m for m in ch["df/foxglove/tf"]["decodedMessages"] if m["child_frame_id"] == "camera"]
+if len(cams) != 12: fail(f"{len(cams)} camera transforms for 12 frames")
+for m in cams:
+    stamp = m["timestamp"]["sec"] * 10**9 + m["timestamp"]["nsec"]
+    key = min(traj, key=lambda k: abs(k - stamp))
+    if abs(key - stamp) > 1000 or any(abs(a - b) > 1e-5 for a, b in zip(traj[key][:3], m["translation"])):
+        fail(f"transform at {stamp} {m['translation']} is not the trajectory's {traj.get(key)}")
+maps = ch["df/foxglove/map"]["decodedMessages"]
+if len(maps) < 2 or maps[-1]["dataLength"] < 16 * 1000: fail(f"map clouds: {[m['dataLength'] for m in maps]}")
+print(f"ok: 12 frames of views; camera transforms equal the trajectory; {len(maps)} map clouds")
+PY
+pass "df_slam offline --foxglove writes the run's views"

@@ -19,6 +19,7 @@ import { open } from "node:fs/promises";
 import { parseIDL } from "@foxglove/omgidl-parser";
 import { MessageReader, MessageWriter } from "@foxglove/omgidl-serialization";
 import { McapIndexedReader } from "@mcap/core";
+import { decompress } from "fzstd";
 import { FileReadable, sha256 } from "./file_readable.mjs";
 
 function fail(message) {
@@ -146,7 +147,12 @@ async function main() {
   if (args.length !== 1 || !(max >= 0)) fail("usage: node foxglove_decode.mjs FILE.mcap [--max N]");
   const handle = await open(args[0], "r");
   try {
-    const mcap = await McapIndexedReader.Initialize({ readable: new FileReadable(handle) });
+    // zstd chunks (df_slam offline --foxglove, df_tap record --zstd) through fzstd, as Studio
+    // decompresses them.
+    const mcap = await McapIndexedReader.Initialize({
+      readable: new FileReadable(handle),
+      decompressHandlers: { zstd: (data, size) => decompress(data, new Uint8Array(Number(size))) },
+    });
     const channels = new Map();
     for (const channel of [...mcap.channelsById.values()].sort((a, b) => a.id - b.id)) {
       const schema = mcap.schemasById.get(channel.schemaId);
