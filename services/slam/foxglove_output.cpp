@@ -1,6 +1,6 @@
 #include "foxglove_output.hpp"
 
-#include "detect/detector.hpp"
+#include "draw/pictures.hpp"
 #include "foxglove/messages.hpp"
 #include "slam_system/map_snapshot.hpp"
 
@@ -50,18 +50,10 @@ Status FoxgloveOutput::write(uint64_t seq, const io::RgbdImage& image,
     const int64_t stamp = image.sensor_ns;
     DF_RETURN_IF_ERROR(put(encoder_->frame(seq, stamp, image), seq));
     // The boxes the frame's instances came from (a detector's, or none for given masks).
-    const auto& names = detect::coco_names();
     std::vector<detect::Detection> boxes;
     for (const dynamics::InstanceInfo& i : segments.objects.instances) {
-        if (i.box.width <= 0) continue;
-        detect::Detection d;
-        d.box = i.box;
-        d.class_id = i.class_id;
-        d.class_name = i.class_id >= 0 && i.class_id < static_cast<int>(names.size())
-                           ? names[static_cast<size_t>(i.class_id)]
-                           : "object";
-        d.score = i.score;
-        boxes.push_back(d);
+        if (i.box.width > 0)
+            boxes.push_back({i.box, i.class_id, draw::class_name(i.class_id), i.score});
     }
     DF_RETURN_IF_ERROR(put(encoder_->detections(stamp, boxes, image.rgb.cols), seq));
     DF_RETURN_IF_ERROR(put(encoder_->instances(seq, stamp, segments.objects), seq));
@@ -75,8 +67,8 @@ Status FoxgloveOutput::write(uint64_t seq, const io::RgbdImage& image,
         std::vector<foxglove::CloudPoint> points;
         points.reserve(snapshot.points.size());
         for (const slam::SnapshotPoint& p : snapshot.points) {
-            points.push_back({p.position_world.x(), p.position_world.y(), p.position_world.z(),
-                              p.r, p.g, p.b, 255});
+            points.push_back({p.position_world.x(), p.position_world.y(), p.position_world.z(), p.r,
+                              p.g, p.b, 255});
         }
         std::vector<foxglove::ObjectBounds> bounds;
         for (const slam::ObjectExtent& e : snapshot.objects) {

@@ -2,8 +2,8 @@
 
 #include "dds/msg_convert.hpp"
 #include "dds/sample_check.hpp"
-#include "detect/detector.hpp"
 #include "df_msgs.h"
+#include "draw/pictures.hpp"
 
 namespace df::tap {
 namespace {
@@ -29,18 +29,11 @@ std::vector<foxglove::Message> frames(foxglove::SceneEncoder& e, const df_msg_Rg
 
 std::vector<foxglove::Message> detections(foxglove::SceneEncoder& e, const df_msg_Detections& m) {
     if (!dds::checked(m) || m.header.status != df_msg_FRAME_OK) return {};
-    const auto& names = detect::coco_names();
     std::vector<detect::Detection> boxes;
     for (uint32_t i = 0; i < m.count; ++i) {
         const df_msg_Detection& b = m.boxes[i];
-        detect::Detection d;
-        d.box = cv::Rect2f(b.x, b.y, b.w, b.h);
-        d.class_id = b.class_id;
-        d.class_name = b.class_id >= 0 && b.class_id < static_cast<int>(names.size())
-                           ? names[static_cast<size_t>(b.class_id)]
-                           : "object";
-        d.score = b.score;
-        boxes.push_back(d);
+        boxes.push_back(
+            {cv::Rect2f(b.x, b.y, b.w, b.h), b.class_id, draw::class_name(b.class_id), b.score});
     }
     return e.detections(stamp(m.header), boxes, m.image_width);
 }

@@ -44,10 +44,7 @@ rec=$!; pids+=($rec)
 "$BIN/df_slam" run --set "dds { ns: \"$NS\" }" --set "output { dir: \"$TMP/out\" }" \
   --set 'use_segments: false' >"$TMP/slam.log" 2>&1 &
 slam=$!; pids+=($slam)
-"$BIN/df_capture" "$TMP/seq" --set "dds { ns: \"$NS\" }" --set 'playback: LOCKSTEP' \
-  --set 'lockstep_stages: "slam"' --set 'lockstep_stages: "rec"' --set 'start_wait_s: 30' \
-  --set 'lockstep_timeout_s: 60' >"$TMP/capture.log" 2>&1 \
-  || fail "capture failed: $(tail -3 "$TMP/capture.log")"
+capture_lockstep "$TMP/seq" slam rec
 wait $slam || fail "slam failed: $(tail -5 "$TMP/slam.log")"
 wait $rec || fail "recorder failed: $(tail -5 "$TMP/rec.err")"
 wait $js || fail "the Foxglove client failed: $(cat "$TMP/js.err")"

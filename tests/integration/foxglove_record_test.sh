@@ -14,20 +14,11 @@ N=20
   "$NS/frames" "$NS/detections" "$NS/object_segments" "$NS/camera_pose" "$NS/object_poses" "$NS/map_cloud" \
   >"$TMP/rec.out" 2>"$TMP/rec.err" &
 rec=$!; pids+=($rec)
-"$BIN/df_geoseg" --set "dds { ns: \"$NS\" }" >"$TMP/geoseg.log" 2>&1 &
-pids+=($!)
-"$BIN/df_detector" --set "dds { ns: \"$NS\" }" --set 'model: "simulated"' \
-  --set "sim_sequence: \"$TMP/seq\"" >"$TMP/detector.log" 2>&1 &
-pids+=($!)
-"$BIN/df_fusion" --set "dds { ns: \"$NS\" }" >"$TMP/fusion.log" 2>&1 &
-pids+=($!)
+start_segmentation "$TMP/seq"
 "$BIN/df_slam" run --set "dds { ns: \"$NS\" }" --set "output { dir: \"$TMP/out\" }" \
   --set 'segments_deadline_ms: 2000' --set 'map_cloud_every_frames: 5' >"$TMP/slam.log" 2>&1 &
 slam=$!; pids+=($slam)
-"$BIN/df_capture" "$TMP/seq" --set "dds { ns: \"$NS\" }" --set 'playback: LOCKSTEP' \
-  --set 'lockstep_stages: "slam"' --set 'lockstep_stages: "rec"' --set 'start_wait_s: 30' \
-  --set 'lockstep_timeout_s: 60' >"$TMP/capture.log" 2>&1 \
-  || fail "capture failed: $(tail -3 "$TMP/capture.log")"
+capture_lockstep "$TMP/seq" slam rec
 wait $slam || fail "slam failed: $(tail -5 "$TMP/slam.log")"
 wait $rec || fail "recorder failed: $(tail -5 "$TMP/rec.err")"
 cat "$TMP/rec.out"

@@ -67,3 +67,24 @@ sup_kill_restarted() {
   done
   fail "$1 was not restarted after kill -9 of pid $killed_pid ($($SUP status))"
 }
+# start_segmentation SEQ: df_geoseg, the SIMULATED df_detector on SEQ's ground truth and
+# df_fusion in the background on the test's namespace (logs in $TMP/<service>.log).
+start_segmentation() {
+  "$BIN/df_geoseg" --set "dds { ns: \"$NS\" }" >"$TMP/geoseg.log" 2>&1 &
+  pids+=($!)
+  "$BIN/df_detector" --set "dds { ns: \"$NS\" }" --set 'model: "simulated"' \
+    --set "sim_sequence: \"$1\"" >"$TMP/detector.log" 2>&1 &
+  pids+=($!)
+  "$BIN/df_fusion" --set "dds { ns: \"$NS\" }" >"$TMP/fusion.log" 2>&1 &
+  pids+=($!)
+}
+# capture_lockstep SEQ STAGE...: plays SEQ to the end, each frame after every STAGE answered it
+# (60 s at most per frame; 30 s for the stages' readers to appear); fails the test if it fails.
+capture_lockstep() {
+  local seq="$1"; shift
+  local stages=()
+  for s in "$@"; do stages+=(--set "lockstep_stages: \"$s\""); done
+  "$BIN/df_capture" "$seq" --set "dds { ns: \"$NS\" }" --set 'playback: LOCKSTEP' "${stages[@]}" \
+    --set 'start_wait_s: 30' --set 'lockstep_timeout_s: 60' >"$TMP/capture.log" 2>&1 \
+    || fail "capture failed: $(tail -3 "$TMP/capture.log")"
+}

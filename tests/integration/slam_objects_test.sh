@@ -11,19 +11,11 @@ N=30
   || fail "df_make_sequence failed"
 "$BIN/df_tap" echo "$NS/object_poses" -n $N --items 8 --depth 64 >"$TMP/echo.out" 2>"$TMP/echo.err" &
 echo_pid=$!; pids+=($echo_pid)
-"$BIN/df_geoseg" --set "dds { ns: \"$NS\" }" >"$TMP/geoseg.log" 2>&1 &
-pids+=($!)
-"$BIN/df_detector" --set "dds { ns: \"$NS\" }" --set 'model: "simulated"' \
-  --set "sim_sequence: \"$TMP/seq\"" >"$TMP/detector.log" 2>&1 &
-pids+=($!)
-"$BIN/df_fusion" --set "dds { ns: \"$NS\" }" >"$TMP/fusion.log" 2>&1 &
-pids+=($!)
+start_segmentation "$TMP/seq"
 "$BIN/df_slam" run --set "dds { ns: \"$NS\" }" --set "output { dir: \"$TMP/out\" log_every: 1 }" \
   --set 'segments_deadline_ms: 2000' >"$TMP/slam.log" 2>&1 &
 slam=$!; pids+=($slam)
-"$BIN/df_capture" "$TMP/seq" --set "dds { ns: \"$NS\" }" --set 'playback: LOCKSTEP' \
-  --set 'lockstep_stages: "slam"' --set 'start_wait_s: 30' --set 'lockstep_timeout_s: 60' \
-  >"$TMP/capture.log" 2>&1 || fail "capture failed: $(tail -3 "$TMP/capture.log")"
+capture_lockstep "$TMP/seq" slam
 wait $slam || fail "slam failed: $(tail -5 "$TMP/slam.log")"
 timeout 60 bash -c "while kill -0 $echo_pid 2>/dev/null; do sleep 0.2; done" \
   || fail "object_poses: $(grep -c 'header:' "$TMP/echo.out") of $N messages"
