@@ -35,9 +35,14 @@ Result<std::vector<Subscription>> subscribe_inputs(const dds::Participant& p,
             return error(StatusCode::kInternal, std::string("no type ") + type_name);
         const std::string topic = dds::topic_name(b.ns, name);
         // Best effort, keep the last few: a bridge that falls behind loses old samples and
-        // never slows a writer.
-        auto reader = dds::create_reader(p, type->descriptor, topic,
-                                         dds::EndpointOptions{dds::QosProfile::kTap, b.depth});
+        // never slows a writer. Images and maps keep `depth`; the small samples (boxes, poses)
+        // keep 16, so that a burst of frames to convert does not push them out.
+        const bool big = type->descriptor == &df_msg_RgbdFrame_desc ||
+                         type->descriptor == &df_msg_ObjectSegments_desc ||
+                         type->descriptor == &df_msg_MapCloud_desc;
+        auto reader = dds::create_reader(
+            p, type->descriptor, topic,
+            dds::EndpointOptions{dds::QosProfile::kTap, big ? b.depth : 16});
         if (!reader) return reader.status();
         subs.push_back(Subscription{topic, type, std::move(*reader)});
     }

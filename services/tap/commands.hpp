@@ -60,7 +60,7 @@ struct BridgeOptions {
     }();
     double map_period_s = 1.0;  ///< at most one map cloud per this many seconds
     double max_queue_mb = 8;    ///< per client; beyond it new messages to it are dropped
-    int depth = 2;              ///< samples per topic kept for the bridge (oldest dropped)
+    int depth = 2;  ///< frames, segments, maps kept for the bridge (oldest dropped); others 16
 };
 int cmd_bridge(const dds::Participant& p, const BridgeOptions& bridge, const CommonOptions& o);
 

@@ -3,7 +3,8 @@
 //
 // A Foxglove WebSocket client (FoxgloveClient of @foxglove/ws-protocol over `ws`, as Studio)
 // that subscribes to every channel `df_tap bridge` advertises and, for SECONDS, counts messages
-// and bytes per channel; prints JSON {channels: {topic: {messages, bytes}}, seconds}. With
+// and bytes per channel; prints JSON {channels: {topic: {messages, bytes}}, seconds} (seconds:
+// from the first message to the last). With
 // --stall it subscribes and then stops reading its socket (a client that stalls), and prints
 // nothing but {stalled: true} at the end. For tests/bench/run_bridge_bench.sh.
 import pkg from "@foxglove/ws-protocol";
@@ -34,12 +35,16 @@ client.on("advertise", (channels) => {
   if (stall) setTimeout(() => ws._socket.pause(), 500);
   start ??= Date.now();
 });
+let first;
+let last;
 client.on("message", ({ subscriptionId, data }) => {
+  last = Date.now();
+  first ??= last;
   const c = counts[topics.get(subscriptionId)];
   c.messages += 1;
   c.bytes += data.byteLength;
 });
 setTimeout(() => {
-  process.stdout.write(`${JSON.stringify(stall ? { stalled: true } : { channels: counts, seconds: (Date.now() - start) / 1000 })}\n`);
+  process.stdout.write(`${JSON.stringify(stall ? { stalled: true } : { channels: counts, seconds: first ? (last - first) / 1000 : 0 })}\n`);
   process.exit(0);
 }, seconds * 1000);
