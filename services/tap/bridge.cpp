@@ -40,9 +40,9 @@ Result<std::vector<Subscription>> subscribe_inputs(const dds::Participant& p,
         const bool big = type->descriptor == &df_msg_RgbdFrame_desc ||
                          type->descriptor == &df_msg_ObjectSegments_desc ||
                          type->descriptor == &df_msg_MapCloud_desc;
-        auto reader = dds::create_reader(
-            p, type->descriptor, topic,
-            dds::EndpointOptions{dds::QosProfile::kTap, big ? b.depth : 16});
+        auto reader =
+            dds::create_reader(p, type->descriptor, topic,
+                               dds::EndpointOptions{dds::QosProfile::kTap, big ? b.depth : 16});
         if (!reader) return reader.status();
         subs.push_back(Subscription{topic, type, std::move(*reader)});
     }
