@@ -66,7 +66,8 @@ std::vector<Message> SceneEncoder::frame(uint64_t seq, int64_t stamp_ns,
     std::vector<Message> out;
     if (frame.rgb.empty()) return out;
     if (wanted(Channel::kMasks)) {
-        colours_.emplace_back(seq, frame.rgb);
+        // A copy: the caller's image may be a view of a sample it hands back after the call.
+        colours_.emplace_back(seq, frame.rgb.clone());
         while (colours_.size() > kKeptColours) colours_.pop_front();
     }
     if (wanted(Channel::kColor)) image(Channel::kColor, stamp_ns, frame.rgb, &out);

@@ -72,7 +72,8 @@ class SceneEncoder {
     void set_wanted(Channel channel, bool wanted) { wanted_[static_cast<int>(channel)] = wanted; }
     bool wanted(Channel channel) const { return wanted_[static_cast<int>(channel)]; }
 
-    /// Colour and depth of frame `seq`. The colour is kept a few frames for the masks.
+    /// Colour and depth of frame `seq`. The colour is copied and kept a few frames for the masks
+    /// (`image` may be a view of memory the caller reuses after the call).
     std::vector<Message> frame(uint64_t seq, int64_t stamp_ns, const io::RgbdImage& image);
     /// The detector's boxes of frame `seq`, in the pixels of an image `width` wide.
     std::vector<Message> detections(int64_t stamp_ns, const std::vector<detect::Detection>& boxes,

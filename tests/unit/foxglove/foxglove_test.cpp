@@ -7,6 +7,7 @@
 
 #include "foxglove/cdr_writer.hpp"
 #include "foxglove/messages.hpp"
+#include "foxglove/scene.hpp"
 
 namespace df::foxglove {
 namespace {
@@ -75,6 +76,37 @@ TEST(FoxgloveMessages, FrameTransformHoldsThePose) {
     EXPECT_DOUBLE_EQ(f64_at(b, 52), 3);
     EXPECT_NEAR(f64_at(b, 76), std::sqrt(0.5), 1e-12);  // z
     EXPECT_NEAR(f64_at(b, 84), std::sqrt(0.5), 1e-12);  // w
+}
+
+TEST(SceneEncoder, MasksAreTintedOverTheFramesOwnColourEvenWhenTheCallerReusesItsImage) {
+    SceneEncoder encoder;  // raw images: the pixels can be compared
+    cv::Mat rgb(2, 2, CV_8UC3, cv::Scalar(10, 20, 30));
+    io::RgbdImage image;
+    image.rgb = rgb;  // a view, as the tap hands over a sample's memory
+    ASSERT_FALSE(encoder.frame(7, 1000, image).empty());
+    rgb.setTo(cv::Scalar(200, 200, 200));  // the sample's memory, reused by the next one
+    dynamics::LabelImage labels;
+    labels.labels = cv::Mat::zeros(2, 2, CV_16UC1);
+    labels.labels.at<uint16_t>(0, 0) = 1;  // one pixel of a person
+    dynamics::InstanceInfo person;
+    person.id = 1;
+    person.class_id = 0;
+    person.kind = dynamics::ObjectKind::kNonRigid;
+    labels.instances.push_back(person);
+    const auto masks = encoder.instances(7, 1000, labels);
+    ASSERT_EQ(masks.size(), 1u);
+    const Bytes& b = masks[0].data;
+    ASSERT_EQ(b.size(), 64u);  // the RawImage layout of RawImageCarriesThePixelsAfterItsFields
+    const uint8_t* px = b.data() + 52;
+    // Pixel (0,0): half the frame's colour, half the person tint (255, 40, 40).
+    EXPECT_EQ(px[0], (10 + 255) / 2);
+    EXPECT_EQ(px[1], (20 + 40) / 2);
+    // The others: the frame's own colour, not what the caller wrote afterwards.
+    for (int i = 1; i < 4; ++i) {
+        EXPECT_EQ(px[3 * i], 10) << "pixel " << i;
+        EXPECT_EQ(px[3 * i + 1], 20) << "pixel " << i;
+        EXPECT_EQ(px[3 * i + 2], 30) << "pixel " << i;
+    }
 }
 
 }  // namespace
