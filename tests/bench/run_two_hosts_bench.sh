@@ -83,10 +83,21 @@ seen = [s for s in detected if s in first]
 print(len(seen), sum(first[s] for s in seen), sum(s in any_used for s in seen))
 PY
 }
+TICKS=$(getconf CLK_TCK)
+# CPU ticks used so far by the pipeline's services on both hosts (their arguments name the
+# namespace; the bench's taps do not count).
+pipeline_ticks() {
+  local t=0 p f
+  for p in $(pgrep -f "ns: \"$NS\"" || true); do
+    read -r -a f <<<"$(sed 's/^.*) //' "/proc/$p/stat" 2>/dev/null)" || continue
+    [ "${#f[@]}" -gt 12 ] && t=$((t + f[11] + f[12]))
+  done
+  echo "$t"
+}
 measure() {  # measure LABEL
   local d="$TMP/m"; rm -rf "$d"; mkdir -p "$d"
   $TAP hz "$NS/camera_pose" --duration "$WINDOW" >"$d/hz" 2>&1 &
-  local p1=$! cpu0; cpu0=$(head -1 /proc/stat)
+  local p1=$! cpu0 ticks0 wall0; cpu0=$(head -1 /proc/stat); ticks0=$(pipeline_ticks); wall0=$(date +%s.%N)
   $TAP bw "$NS/color_small" --duration "$WINDOW" >"$d/bw" 2>&1 &
   local p2=$!
   $TAP delay "$NS/detections" --ok-only --window 100000 --duration "$WINDOW" >"$d/delay" 2>&1 &
@@ -96,6 +107,8 @@ measure() {  # measure LABEL
   $TAP echo "$NS/object_segments" --items 0 --depth 256 --duration "$WINDOW" >"$d/seg" 2>&1 &
   local p5=$!
   wait $p1 $p2 $p3 $p4 $p5 || true
+  local services; services=$(awk -v a="$ticks0" -v b="$(pipeline_ticks)" -v t="$TICKS" \
+    -v w0="$wall0" -v w1="$(date +%s.%N)" 'BEGIN { printf "%.0f", 100 * (b - a) / t / (w1 - w0) }')
   local hz bw dl s busy
   busy=$(/usr/bin/python3 -c "import sys; a=list(map(int,sys.argv[1].split()[1:])); b=list(map(int,sys.argv[2].split()[1:])); d=[y-x for x,y in zip(a,b)]; idle=d[3]+d[4]; print(f'{100*(sum(d)-idle)/max(1,sum(d)):.0f}')" "$cpu0" "$(head -1 /proc/stat)")
   hz=$(awk '/average rate:/ {r=$3} END {printf "%.1f", r+0}' "$d/hz")
@@ -103,8 +116,8 @@ measure() {  # measure LABEL
   dl=$(awk '/delay \(receive/ {r=sprintf("%.0f / %.0f ms", $9, $12)} END {print (r == "" ? "none" : r)}' "$d/delay")
   read -r seen used late < <(share "$d/det" "$d/seg")
   s=$( [ "$seen" -gt 0 ] && /usr/bin/python3 -c "import sys; n, a, b = map(int, sys.argv[1:]); print(f'{n} detected: {100*a/n:.0f} % in time, {100*b/n:.0f} % used at all')" "$seen" "$used" "$late" || echo "no frame detected")
-  printf "%-12s color_small %-10s detections p50/p99 %-13s camera_pose %4s Hz  cpu %s %%  %s\n" \
-    "$1" "$bw" "$dl" "$hz" "$busy" "$s"
+  printf "%-12s color_small %-10s detections p50/p99 %-13s camera_pose %4s Hz  cpu %s %% (services %s %% of a core)  %s\n" \
+    "$1" "$bw" "$dl" "$hz" "$busy" "$services" "$s"
 }
 echo "two hosts ($NS_A, $NS_B; $IF_A $ADDR_A <-> $IF_B $ADDR_B), $(basename "$DATA") at 30 Hz, windows of $WINDOW s"
 measure "clean"
