@@ -35,6 +35,7 @@ run_case() {  # name: none | reading | stalled
   local bridge="" port=""
   if [ "$name" != none ]; then
     # shellcheck disable=SC2086
+    : >"$out/$name.bridge.out"
     "$bin/df_tap" bridge --ns "$ns" --port 0 ${DF_BENCH_BRIDGE_ARGS:-} >"$out/$name.bridge.out" 2>"$out/$name.bridge.log" &
     bridge=$!; case_pids+=($bridge)
     for _ in $(seq 100); do

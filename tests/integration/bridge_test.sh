@@ -8,6 +8,7 @@ source "$(dirname "$0")/lib.sh"
 roudi_running || fail "no RouDi: run through ctest (fixture roudi)"
 N=30
 make_sequence $N
+: >"$TMP/bridge.out"  # made here: the loop below may read it before the bridge writes
 "$BIN/df_tap" bridge --ns "$NS" --port 0 --jpeg 0 >"$TMP/bridge.out" 2>"$TMP/bridge.err" &
 bridge=$!; pids+=($bridge)
 port=""
@@ -28,6 +29,7 @@ set -e
   || fail "a second bridge on port $port: rc $rc, $(cat "$TMP/bridge2.err")"
 pass "a second bridge on the same port is refused, naming it"
 
+: >"$TMP/js.err"
 node "$SRC/tests/js/bridge_check.mjs" "ws://127.0.0.1:$port" "$NS/foxglove" --images 10 \
   --transforms 10 --timeout-ms 120000 >"$TMP/js.json" 2>"$TMP/js.err" &
 js=$!; pids+=($js)

@@ -9,6 +9,7 @@ command -v node >/dev/null || fail "node not found: run deploy/setup.sh"
 [ -d "$SRC/tests/js/node_modules/@foxglove/ws-protocol" ] && [ -d "$SRC/tests/js/node_modules/ws" ] \
   || fail "tests/js has no @foxglove/ws-protocol or ws: run deploy/setup.sh (npm ci in tests/js)"
 
+: >"$TMP/server.out"  # made here: the loop below may read it before the server writes
 "$server_bin" --timeout-s 30 >"$TMP/server.out" 2>"$TMP/server.err" &
 server=$!; pids+=($server)
 port=""
