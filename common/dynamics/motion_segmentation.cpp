@@ -109,7 +109,8 @@ Result<MotionResult> segment_motion(const MotionInput& in, const MotionSegmentat
             return error(StatusCode::kInvalidArgument, "motion segmentation: " + e);
     }
     out.filled_pixels = filled.empty() ? 0 : cv::countNonZero(filled);
-    const bool any_filled = out.filled_pixels >= std::min(c.min_segment_pixels, c.min_region_pixels);
+    const bool any_filled =
+        out.filled_pixels >= std::min(c.min_segment_pixels, c.min_region_pixels);
 
     const uint8_t* no_mask = nullptr;
     const auto excluded_row = [&](int y) {
@@ -162,6 +163,12 @@ Result<MotionResult> segment_motion(const MotionInput& in, const MotionSegmentat
     const size_t segment_count = with_segments ? static_cast<size_t>(in.geometric_count) + 1 : 1;
     if (photo != nullptr)
         out.photometric_threshold = photometric_threshold(spread.photo_bins, spread.photo_n, c);
+    // The whole frame's residuals rising together are a pose slightly off, not a mover: a
+    // pixel must also stand out of the frame's own spread.
+    out.frame_floor_m = c.residual_spread_factor > 0.f
+                            ? c.residual_spread_factor * spread.residual.quantile(0.5f)
+                            : 0.f;
+    const float frame_floor_m = out.frame_floor_m;
     cv::Mat dynamic(rows, cols, CV_8UC1);
     cv::Mat candidate(rows, cols, CV_8UC1);
     struct SegmentCounts {
@@ -190,7 +197,8 @@ Result<MotionResult> segment_motion(const MotionInput& in, const MotionSegmentat
                         ++acc.dynamic;
                     } else if (!out_of_play && std::isfinite(r[x])) {
                         const float a = std::min(std::fabs(r[x]), c.max_residual_m);
-                        const float floor_m = c.min_residual_m + c.min_residual_per_m2 * z[x] * z[x];
+                        const float floor_m = std::max(
+                            frame_floor_m, c.min_residual_m + c.min_residual_per_m2 * z[x] * z[x]);
                         if (residual_motion && a > out.clusters.threshold && a > floor_m) {
                             v = 255;
                             ++acc.dynamic;
@@ -261,18 +269,18 @@ Result<MotionResult> segment_motion(const MotionInput& in, const MotionSegmentat
             return error(StatusCode::kInvalidArgument, "motion segmentation: " + e);
         std::vector<int> carried(segment_count, 0);
         if (!carried_mask.empty() && any_undecided) {
-            const std::vector<std::vector<int>> carried_blocks = over_row_blocks(
-                rows, std::vector<int>(segment_count, 0),
-                [&](int y0, int y1, std::vector<int>& acc) {
-                    for (int y = y0; y < y1; ++y) {
-                        const int* g = in.geometric.ptr<int>(y);
-                        const uint8_t* cm = carried_mask.ptr<uint8_t>(y);
-                        const uint8_t* ex = excluded_row(y);
-                        for (int x = 0; x < cols; ++x)
-                            if (g[x] != 0 && cm[x] && !(ex && ex[x]))
-                                ++acc[static_cast<size_t>(g[x])];
-                    }
-                });
+            const std::vector<std::vector<int>> carried_blocks =
+                over_row_blocks(rows, std::vector<int>(segment_count, 0),
+                                [&](int y0, int y1, std::vector<int>& acc) {
+                                    for (int y = y0; y < y1; ++y) {
+                                        const int* g = in.geometric.ptr<int>(y);
+                                        const uint8_t* cm = carried_mask.ptr<uint8_t>(y);
+                                        const uint8_t* ex = excluded_row(y);
+                                        for (int x = 0; x < cols; ++x)
+                                            if (g[x] != 0 && cm[x] && !(ex && ex[x]))
+                                                ++acc[static_cast<size_t>(g[x])];
+                                    }
+                                });
             for (const std::vector<int>& b : carried_blocks) add_counts(b, carried);
         }
         for (size_t s = 1; s < segment_count; ++s) {
@@ -402,8 +410,7 @@ Result<MotionResult> segment_motion(const MotionInput& in, const MotionSegmentat
             const uint8_t* ex = excluded_row(y);
             uint8_t* m = out.mask.ptr<uint8_t>(y);
             for (int x = 0; x < cols; ++x) {
-                const bool segment =
-                    g && take_segment[static_cast<size_t>(g[x])] && !(ex && ex[x]);
+                const bool segment = g && take_segment[static_cast<size_t>(g[x])] && !(ex && ex[x]);
                 if (segment || take_region[static_cast<size_t>(l[x])]) m[x] = 255;
             }
         }

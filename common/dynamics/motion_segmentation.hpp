@@ -88,6 +88,9 @@ struct MotionResult {
     /// evidence was off or had no pixels): max(min_photometric, photometric_spread_factor x the
     /// median intensity residual).
     float photometric_threshold = 0.f;
+    /// The frame's own residual floor this frame: residual_spread_factor x the median residual
+    /// of the pixels clustered (metres; 0 when off).
+    float frame_floor_m = 0.f;
 };
 
 /// Segments one frame. kInvalidArgument naming the input whose type or size is wrong.

@@ -16,6 +16,17 @@ void Histogram::add(const Histogram& other) {
     count_ += other.count_;
 }
 
+float Histogram::quantile(float q) const {
+    if (count_ == 0) return 0.f;
+    const double need = std::clamp(static_cast<double>(q), 0.0, 1.0) * count_;
+    double below = 0;
+    for (size_t b = 0; b < bins_.size(); ++b) {
+        below += bins_[b];
+        if (below >= need && below > 0) return bin_width_ * static_cast<float>(b + 1);
+    }
+    return max_value_;
+}
+
 TwoMeans Histogram::two_means(int max_iterations) const {
     TwoMeans out;
     const int n = static_cast<int>(bins_.size());
@@ -36,8 +47,8 @@ TwoMeans Histogram::two_means(int max_iterations) const {
     int split = -1;  // bins <= split are low
     for (int it = 0; it < max_iterations; ++it) {
         const double t = 0.5 * (low + high);
-        const int new_split = std::clamp(static_cast<int>(std::floor(t / bin_width_ - 0.5)), first,
-                                         last - 1);
+        const int new_split =
+            std::clamp(static_cast<int>(std::floor(t / bin_width_ - 0.5)), first, last - 1);
         ++out.iterations;
         if (new_split == split) break;
         split = new_split;

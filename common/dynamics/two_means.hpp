@@ -35,6 +35,9 @@ class Histogram {
     /// iterates until the split stops moving (at most `max_iterations`). With fewer than two
     /// non-empty bins both centroids are the one value and high_count is 0.
     TwoMeans two_means(int max_iterations = 20) const;
+    /// The value below which a fraction q (0..1) of what was added lies (the upper edge of the
+    /// bin that reaches it); 0 when nothing was added.
+    float quantile(float q) const;
 
   private:
     float max_value_;

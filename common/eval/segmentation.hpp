@@ -3,8 +3,8 @@
 /// Per frame, predicted segments are matched one-to-one to ground-truth instances by IoU
 /// (greedy, largest IoU first, a match needs IoU >= match_iou; with match_iou >= 0.5 a match is
 /// unique anyway, since the segments of a label image are disjoint). See docs/evaluation.md.
-#include <opencv2/core.hpp>
 #include <functional>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
@@ -132,5 +132,20 @@ class SegmentationScorer {
 Result<SegmentationResult> score_segmentation_folders(const std::string& gt_sequence_dir,
                                                       const std::string& pred_dir,
                                                       const SegmentationConfig& config = {});
+
+/// A binary mask folder against another (a mover's ground-truth masks, e.g. 7-Scenes-dyn's
+/// masks/, against a run's invalid/): per ground-truth PNG, the prediction of the same name
+/// (resized by nearest neighbour to its size; missing = empty), non-zero = in the mask.
+struct MaskScore {
+    int frames = 0;          ///< ground-truth PNGs
+    int frames_with_gt = 0;  ///< of those, with a non-empty mask
+    int missing = 0;         ///< ground-truth PNGs without a prediction
+    double mean_iou = 0;     ///< mean IoU over the frames with a non-empty ground truth
+    double pooled_iou = 0;   ///< sum of intersections / sum of unions over those frames
+    double mean_precision = 0, mean_recall = 0;  ///< over the same frames (precision 0 when empty)
+};
+
+/// kNotFound / kIoError naming the folder or file that could not be read.
+Result<MaskScore> score_mask_folders(const std::string& gt_dir, const std::string& pred_dir);
 
 }  // namespace df::eval

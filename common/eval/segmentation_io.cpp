@@ -4,6 +4,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "eval/segmentation.hpp"
 #include "eval/trajectory_metrics.hpp"
@@ -206,6 +207,60 @@ Result<SegmentationResult> score_segmentation_folders(const std::string& gt_sequ
     }
     for (size_t k = matches.size(); k < pred_files->size(); ++k) scorer.add_unpaired_prediction();
     return scorer.result();
+}
+
+}  // namespace df::eval
+
+namespace df::eval {
+
+Result<MaskScore> score_mask_folders(const std::string& gt_dir, const std::string& pred_dir) {
+    std::error_code ec;
+    if (!fs::is_directory(gt_dir, ec))
+        return error(StatusCode::kNotFound, "ground-truth mask folder '" + gt_dir + "' not found");
+    if (!fs::is_directory(pred_dir, ec))
+        return error(StatusCode::kNotFound, "predicted mask folder '" + pred_dir + "' not found");
+    std::vector<fs::path> files;
+    for (const fs::directory_entry& e : fs::directory_iterator(gt_dir, ec))
+        if (e.is_regular_file() && e.path().extension() == ".png") files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    if (files.empty()) return error(StatusCode::kNotFound, "no .png masks in '" + gt_dir + "'");
+    MaskScore score;
+    double inter_sum = 0, union_sum = 0;
+    for (const fs::path& file : files) {
+        auto gt = read_label_png(file.string());
+        if (!gt) return gt.status();
+        ++score.frames;
+        const cv::Mat truth = *gt != 0;
+        cv::Mat pred = cv::Mat::zeros(truth.size(), CV_8UC1);
+        const fs::path pred_file = fs::path(pred_dir) / file.filename();
+        if (fs::exists(pred_file, ec)) {
+            auto p = read_label_png(pred_file.string());
+            if (!p) return p.status();
+            cv::Mat m = *p != 0;
+            if (m.size() != truth.size()) cv::resize(m, m, truth.size(), 0, 0, cv::INTER_NEAREST);
+            pred = m;
+        } else {
+            ++score.missing;
+        }
+        const double t = cv::countNonZero(truth);
+        if (t == 0) continue;
+        const double p = cv::countNonZero(pred);
+        const double i = cv::countNonZero(truth & pred);
+        const double u = t + p - i;
+        ++score.frames_with_gt;
+        score.mean_iou += i / u;
+        score.mean_precision += p > 0 ? i / p : 0.0;
+        score.mean_recall += i / t;
+        inter_sum += i;
+        union_sum += u;
+    }
+    if (score.frames_with_gt > 0) {
+        score.mean_iou /= score.frames_with_gt;
+        score.mean_precision /= score.frames_with_gt;
+        score.mean_recall /= score.frames_with_gt;
+        score.pooled_iou = inter_sum / union_sum;
+    }
+    return score;
 }
 
 }  // namespace df::eval

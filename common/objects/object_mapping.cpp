@@ -28,19 +28,21 @@ cv::Mat ObjectMaps::fusable(const dynamics::LabelImage& instances, uint16_t id,
     return mask;
 }
 
-Result<map::FusionStats> ObjectMaps::fuse_pixels(ObjectMap& o, const slam::Frame& frame,
-                                                 const cv::Mat& rgb,
-                                                 const io::RgbdImage& full_image,
-                                                 const cv::Mat& keep, const cv::Rect& roi,
-                                                 const Eigen::Isometry3d& object_T_camera,
-                                                 int map_time, const cv::Mat& background_depth_m,
-                                                 bool create_surfels) {
+Result<map::FusionStats> ObjectMaps::fuse_pixels(
+    ObjectMap& o, const slam::Frame& frame, const cv::Mat& rgb, const io::RgbdImage& full_image,
+    const cv::Mat& keep, const cv::Rect& roi, const Eigen::Isometry3d& object_T_camera,
+    int map_time, const cv::Mat& background_depth_m, bool create_surfels) {
     const cv::Size size = frame.levels[0].depth_m.size();
     const int f = size.width > 0 ? full_image.depth.cols / size.width : 0;
     // Confirming a silhouette stays at the processing resolution: its pixels are the map's
     // rendering where the depth agrees, and at the sensor's resolution their fringe pulled
     // the default data's car 1.4 to 1.9 cm off its track (docs/objects.md).
-    const bool full = config_.fuse_full_resolution && create_surfels && f > 1 &&
+    // An object that fills much of the view is fused at the processing resolution: the cost per
+    // frame stays bounded whatever its size in the image (full_resolution_max_pixels).
+    const bool small = config_.full_resolution_max_pixels == 0 ||
+                       cv::countNonZero(keep(roi & cv::Rect(cv::Point(0, 0), size))) <=
+                           config_.full_resolution_max_pixels;
+    const bool full = config_.fuse_full_resolution && small && create_surfels && f > 1 &&
                       full_image.depth.cols == f * size.width &&
                       full_image.depth.rows == f * size.height &&
                       full_image.rgb.size() == full_image.depth.size();
@@ -63,10 +65,9 @@ Result<map::FusionStats> ObjectMaps::fuse_pixels(ObjectMap& o, const slam::Frame
     pre.bilateral_radius_px = std::min(16, pre.bilateral_radius_px * f);
     pre.normal_baseline_px = std::min(8, pre.normal_baseline_px * f);
     const int margin = pre.bilateral_radius_px + pre.normal_baseline_px;
-    const cv::Rect part_box =
-        cv::Rect(box.x * f - margin, box.y * f - margin, box.width * f + 2 * margin,
-                 box.height * f + 2 * margin) &
-        cv::Rect(cv::Point(0, 0), full_image.depth.size());
+    const cv::Rect part_box = cv::Rect(box.x * f - margin, box.y * f - margin,
+                                       box.width * f + 2 * margin, box.height * f + 2 * margin) &
+                              cv::Rect(cv::Point(0, 0), full_image.depth.size());
     if (part_box.width < 8 || part_box.height < 8) return map::FusionStats{};
     io::RgbdImage part = full_image;
     part.rgb = full_image.rgb(part_box);
@@ -119,8 +120,8 @@ Status ObjectMaps::map(const slam::Frame& frame, const cv::Mat& rgb,
         if (r.tracked && r.instance != 0 && !used.empty()) {
             // Only what the detector's instance shows is fused: a silhouette's depth-agreeing
             // pixels would let the map grow into the floor it stands on.
-            cv::Mat keep = fusable(instances, r.instance, frame.levels[0].depth_m,
-                                   background_depth_m);
+            cv::Mat keep =
+                fusable(instances, r.instance, frame.levels[0].depth_m, background_depth_m);
             if (!of->grown.empty()) keep |= of->grown;
             keep &= of->object_ids == static_cast<uint16_t>(o.id);
             auto fused = fuse_pixels(o, frame, rgb, full_image, keep, used, object_T_camera,

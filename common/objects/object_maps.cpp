@@ -99,6 +99,19 @@ int ObjectMaps::live_count() const {
     }));
 }
 
+ObjectExtent ObjectMaps::extent_of(const ObjectMap& object) {
+    ObjectExtent e;
+    const auto& surfels = object.map.map().surfels();
+    if (surfels.empty()) return e;
+    for (const map::Surfel& s : surfels) e.centroid += s.position.cast<double>();
+    e.centroid /= static_cast<double>(surfels.size());
+    double sum = 0;
+    for (const map::Surfel& s : surfels)
+        sum += (s.position.cast<double>() - e.centroid).squaredNorm();
+    e.radius_m = std::sqrt(sum / static_cast<double>(surfels.size()));
+    return e;
+}
+
 Eigen::Vector3d ObjectMaps::centroid_in_world(const ObjectMap& object) const {
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     const auto& surfels = object.map.map().surfels();
@@ -123,6 +136,7 @@ ObjectMapsState ObjectMaps::state() const {
         m.frames_lost = o.frames_lost;
         m.world_T_object = o.map.world_T_map();
         m.body_motion = o.body_motion;
+        m.mover = o.mover;
         m.trajectory = o.trajectory;
         m.surfels = o.map.map().surfels();
         m.surfels_rejected_by_capacity = o.map.map().total_rejected_by_capacity();
@@ -151,6 +165,7 @@ Status ObjectMaps::restore(ObjectMapsState state) {
         o.frames_lost = m.frames_lost;
         o.map.set_world_T_map(m.world_T_object);
         o.body_motion = m.body_motion;
+        o.mover = m.mover;
         o.trajectory = std::move(m.trajectory);
         // The kept early views are not in a checkpoint: a restored map's first poses stay as
         // they are (refined already, or as tracked).
@@ -227,6 +242,7 @@ Result<ObjectFrame> ObjectMaps::predict_and_associate(const slam::Frame& frame,
         r.pixels = out.association.pixels_of_view[k];
         r.silhouette_pixels = out.association.silhouette_pixels_of_view[k];
         r.instance = out.association.instance_of_view[k];
+        r.moving = o.mover.moving;
         // Its last tracked pose (the map's own may have been moved on by dead reckoning).
         r.world_T_object =
             o.trajectory.empty() ? o.map.world_T_map() : io::isometry_of(o.trajectory.back());
@@ -282,8 +298,8 @@ void ObjectMaps::grow_claims(const dynamics::LabelImage& instances, const cv::Ma
             const float dq = depth_m.at<float>(q);
             if (!(dq > 0.f) || !(dp > 0.f) || std::abs(dq - dp) > step + step_per_m2 * dp * dp)
                 continue;
-            if (background && agrees_with_background(dq, background_depth_m.at<float>(q),
-                                                     config_.association)) {
+            if (background &&
+                agrees_with_background(dq, background_depth_m.at<float>(q), config_.association)) {
                 continue;
             }
             of->object_ids.at<uint16_t>(q) = id;
@@ -294,8 +310,8 @@ void ObjectMaps::grow_claims(const dynamics::LabelImage& instances, const cv::Ma
     }
     for (size_t k = 0; k < of->reports.size(); ++k) of->reports[k].pixels += added[k];
     for (size_t i = 0; i < a.unmatched_rigid.size(); ++i) {
-        of->association.unmatched_claimed[i] = cv::countNonZero(
-            (instances.labels == a.unmatched_rigid[i]) & (of->object_ids != 0));
+        of->association.unmatched_claimed[i] =
+            cv::countNonZero((instances.labels == a.unmatched_rigid[i]) & (of->object_ids != 0));
     }
 }
 
@@ -334,7 +350,8 @@ Status ObjectMaps::track(const slam::Frame& frame, const dynamics::LabelImage& i
                                  &of->rois[k], map_time);
         if (!result) return result.status();
         // Not tracked on the previous frame, its guess is dead reckoning over the gap.
-        const bool reacquiring = o.trajectory.empty() || o.trajectory.back().stamp_s != previous_stamp_s_;
+        const bool reacquiring =
+            o.trajectory.empty() || o.trajectory.back().stamp_s != previous_stamp_s_;
         if (!instance.empty() && o.frames_held > 0) {
             // Dead reckoning overshoots an object that stopped while it was lost: try the pose
             // it was held at as well.
@@ -358,7 +375,8 @@ Status ObjectMaps::track(const slam::Frame& frame, const dynamics::LabelImage& i
             cv::Rect used;
             const slam::Frame part = slam::crop(frame, of->rois[k], &used);
             if (!used.empty() && detail::mean_vertex(level, instance, &seen) &&
-                detail::mean_vertex(part.levels[0], model_valid > 0.f, &rendered, o.map.model().vertex)) {
+                detail::mean_vertex(part.levels[0], model_valid > 0.f, &rendered,
+                                    o.map.model().vertex)) {
                 const Eigen::Vector3d shift = world_T_camera.linear() * (seen - rendered);
                 Eigen::Isometry3d moved = guess;
                 moved.pretranslate(shift);
@@ -404,6 +422,10 @@ Status ObjectMaps::track(const slam::Frame& frame, const dynamics::LabelImage& i
         ++o.frames_tracked;
         r.tracked = true;
         r.world_T_object = world_T_object;
+        const ObjectExtent extent = extent_of(o);
+        const double depth_m = (world_T_camera.inverse() * (world_T_object * extent.centroid)).z();
+        r.mover_changed = update_mover(&o.mover, world_T_object, extent, depth_m, config_);
+        r.moving = o.mover.moving;
     }
     previous_stamp_s_ = io::stamped_pose(frame.sensor_ns, Eigen::Isometry3d::Identity()).stamp_s;
     return Status::ok();

@@ -27,6 +27,7 @@
 #include "io/tum/trajectory.hpp"
 #include "map/surfel_map.hpp"
 #include "objects/association.hpp"
+#include "objects/mover_evidence.hpp"
 #include "params/slam_params.hpp"
 #include "slam/frame.hpp"
 #include "slam/map_instance.hpp"
@@ -64,6 +65,8 @@ struct ObjectMap {
     /// by body_motion once per such frame (dead reckoning, up to kMaxHeldFrames).
     int frames_held = 0;
     std::vector<io::StampedPose> trajectory;  ///< world_T_object of the frames it was tracked
+    /// Whether it moves against the static map (mover_evidence.hpp; config keep_until_moving).
+    MoverEvidence mover;
 
     /// One of its first tracked frames, kept until its early poses are refined
     /// (config refine_first_frames): they were tracked against a model still being built.
@@ -74,8 +77,8 @@ struct ObjectMap {
         size_t trajectory_index = 0;
     };
     std::vector<EarlyView> early_views;
-    bool early_refined = false;    ///< done, or restored from a checkpoint (views not kept)
-    int early_poses_refined = 0;   ///< early poses the refinement replaced
+    bool early_refined = false;   ///< done, or restored from a checkpoint (views not kept)
+    int early_poses_refined = 0;  ///< early poses the refinement replaced
 
     /// Where it should be this frame: its pose moved on by body_motion once, and once more per
     /// held frame.
@@ -95,6 +98,8 @@ struct ObjectReport {
     int silhouette_pixels = 0;      ///< of those, the ones only its rendering gave
     uint16_t instance = 0;          ///< the frame instance matched to it (0 none)
     bool tracked = false;           ///< tracking ran and passed its checks
+    bool moving = false;            ///< a proven mover (mover_evidence.hpp), as of this frame
+    bool mover_changed = false;     ///< it became a proven mover, or still again, this frame
     slam::TrackingResult tracking;  ///< when tracking ran
     Eigen::Isometry3d world_T_object = Eigen::Isometry3d::Identity();
     size_t surfels = 0;
@@ -117,6 +122,7 @@ struct ObjectMapState {
     int frames_lost = 0;
     Eigen::Isometry3d world_T_object = Eigen::Isometry3d::Identity();
     Eigen::Isometry3d body_motion = Eigen::Isometry3d::Identity();
+    MoverEvidence mover;
     std::vector<io::StampedPose> trajectory;
     std::vector<map::Surfel> surfels;  ///< in the object's frame, in storage order
     uint64_t surfels_rejected_by_capacity = 0;
@@ -135,9 +141,9 @@ struct ObjectFrame {
     /// CV_16UC1 of the processing resolution: the object id that claims each pixel, 0 none.
     cv::Mat object_ids;
     /// Per live map (index into ObjectMaps::objects()), what association gave it.
-    std::vector<size_t> live;           ///< indices of the live maps, in view order
-    std::vector<cv::Rect> rois;         ///< per live map: its part of the frame (may be empty)
-    Association association;            ///< views = live, in that order
+    std::vector<size_t> live;    ///< indices of the live maps, in view order
+    std::vector<cv::Rect> rois;  ///< per live map: its part of the frame (may be empty)
+    Association association;     ///< views = live, in that order
     /// CV_8UC1 (or empty): the pixels of unmatched rigid instances a map's claim grew into
     /// (association.grow_max_step_m); they are fused into that map with its instance's.
     cv::Mat grown;
@@ -179,9 +185,9 @@ class ObjectMaps {
     /// resolution (an integer multiple of level 0's size), which objects are fused from when
     /// config.fuse_full_resolution is on; empty (or not such a multiple): fused from `frame`.
     Status map(const slam::Frame& frame, const cv::Mat& rgb, const io::RgbdImage& full_image,
-               const dynamics::LabelImage& instances,
-               const Eigen::Isometry3d& world_T_camera, int map_time, uint64_t frame_number,
-               const cv::Mat& background_depth_m, ObjectFrame* object_frame);
+               const dynamics::LabelImage& instances, const Eigen::Isometry3d& world_T_camera,
+               int map_time, uint64_t frame_number, const cv::Mat& background_depth_m,
+               ObjectFrame* object_frame);
 
     /// Every map made in the run, live and retired, in creation order.
     const std::vector<ObjectMap>& objects() const { return objects_; }
@@ -222,6 +228,8 @@ class ObjectMaps {
                       const Eigen::Vector3d& centroid, const Eigen::Isometry3d& world_T_camera,
                       int map_time, const ObjectFrame& object_frame, ObjectMap** found,
                       Eigen::Isometry3d* world_T_object);
+    /// The map's centroid and radius in its own frame (mover_evidence.hpp).
+    static ObjectExtent extent_of(const ObjectMap& object);
     /// The map's centroid in the world (mean surfel position).
     Eigen::Vector3d centroid_in_world(const ObjectMap& object) const;
     /// Creates (or revives) a map from instance `id`'s pixels of this frame.

@@ -224,6 +224,52 @@ void build_cars(Sequence* s, const PhotoLibrary* photos, int n) {
     s->camera.seed = s->seed;
 }
 
+/// A large object of a known rigid class that never moves, filling about a third of the view of
+/// a hand-held camera (the real teddy bear case, docs/dynamics.md): a detected object must stay
+/// in the static map until its own tracking shows it moving.
+void build_large_still_object(Sequence* s, const PhotoLibrary* photos) {
+    Rng rng(s->seed ^ 0x571E);
+    build_office(&s->scene, photos, s->seed);
+    Scene& scene = s->scene;
+    Route parked(Vec2(-0.1, 0.55), 0.0);
+    parked.wait(3600.0);
+    scene.objects.push_back(rigid("car_1", 2, "car",
+                                  make_car(&scene, vary(Rgb(0.2, 0.3, 0.75), &rng), 0.32),
+                                  std::make_shared<GroundMotion>(parked)));
+    s->camera.motion = CameraMotion::kHandheld;
+    s->camera.position = Vec3(0, -0.45, 0.95);
+    s->camera.target = Vec3(0, 0.9, 0.15);
+    s->camera.amplitude = 0.25;
+    s->camera.seed = s->seed;
+}
+
+/// A large box of no known class, filling about a fifth of the view, that slides 0.35 m
+/// sideways and back, waiting 3 s at each end (the real composited-box case): motion
+/// segmentation alone must find it, and the static map must survive it.
+void build_large_unknown_mover(Sequence* s, const PhotoLibrary* photos) {
+    build_office(&s->scene, photos, s->seed);
+    Scene& scene = s->scene;
+    const int checker = scene.add_material(make_material(
+        "mover_box", Pattern::kChecker, Rgb(0.85, 0.8, 0.7), Rgb(0.25, 0.3, 0.45), 0.08, 0.04));
+    std::vector<Shape> box;
+    box.push_back(
+        make_box(Vec3(0.22, 0.16, 0.25), Iso3(Eigen::Translation3d(0, 0, 0.25)), checker));
+    Route slide(Vec2(-0.175, 0.55), 0.0);
+    slide.wait(1.5)
+        .move({{0.175, 0.55}}, 0.35, 1.0)
+        .wait(3.0)
+        .move({{-0.175, 0.55}}, 0.35, 1.0)
+        .wait(1.5)
+        .close_loop(0.35);
+    scene.objects.push_back(
+        rigid("unknown_1", -1, "unknown", std::move(box), std::make_shared<GroundMotion>(slide)));
+    s->camera.motion = CameraMotion::kHandheld;
+    s->camera.position = Vec3(0, -0.3, 0.9);
+    s->camera.target = Vec3(0, 1.2, 0.2);
+    s->camera.amplitude = 0.25;
+    s->camera.seed = s->seed;
+}
+
 }  // namespace
 
 const std::vector<PresetInfo>& presets() {
@@ -269,6 +315,14 @@ const std::vector<PresetInfo>& presets() {
         {"cars_1", "one toy car drives to and fro in front of a hand-held camera", 150},
         {"cars_3", "three toy cars drive to and fro in two lanes; hand-held camera", 150},
         {"cars_5", "five toy cars drive to and fro in two lanes; hand-held camera", 150},
+        {"large_still_object",
+         "a parked car (a known rigid class) fills a third of the view and never moves; "
+         "hand-held camera",
+         150},
+        {"large_unknown_mover",
+         "a box of no known class fills a fifth of the view and slides 0.35 m sideways and back; "
+         "hand-held camera",
+         240},
     };
     return list;
 }
@@ -358,6 +412,10 @@ Result<Sequence> make_sequence(const std::string& preset, const PresetOptions& o
         build_default(&s, &photos);
     } else if (preset.rfind("cars_", 0) == 0) {
         build_cars(&s, &photos, preset.back() - '0');
+    } else if (preset == "large_still_object") {
+        build_large_still_object(&s, &photos);
+    } else if (preset == "large_unknown_mover") {
+        build_large_unknown_mover(&s, &photos);
     } else if (preset == "room4") {
         build_room4(&s, &photos);
         k640 = io::Intrinsics{360.0, 360.0, 320.0, 240.0};  // Co-Fusion's synthetic calibration

@@ -13,9 +13,10 @@ namespace df::slam {
 namespace {
 
 constexpr char kMagic[8] = {'D', 'F', 'S', 'L', 'A', 'M', 'C', 'K'};
-// Version 2 adds the object maps after the static surfels; version 1 files are still read (no
-// object maps).
-constexpr uint32_t kVersion = 2;
+// Version 2 adds the object maps after the static surfels; version 3 each map's mover evidence
+// (objects/mover_evidence.hpp) after its body motion. Versions 1 (no object maps) and 2 (maps
+// not yet proven moving) are still read.
+constexpr uint32_t kVersion = 3;
 constexpr size_t kHeaderBytes = sizeof kMagic + 4 + 8;
 constexpr size_t kSurfelBytes = 11 * 4 + 2 * 4;  // 11 floats, 2 int32
 constexpr size_t kPoseBytes = 8 * 8;
@@ -168,6 +169,13 @@ std::vector<uint8_t> encode(const Checkpoint& c) {
         w.put(static_cast<int32_t>(m.frames_lost));
         w.put_pose(m.world_T_object);
         w.put_pose(m.body_motion);
+        w.put(static_cast<uint8_t>(m.mover.moving));
+        w.put(static_cast<uint8_t>(m.mover.anchored));
+        w.put_pose(m.mover.anchor);
+        w.put(static_cast<int32_t>(m.mover.frames_over));
+        w.put_pose(m.mover.still_since);
+        w.put(static_cast<int32_t>(m.mover.frames_within));
+        w.put(static_cast<int32_t>(m.mover.times_proven));
         w.put_trajectory(m.trajectory);
         w.put_surfels(m.surfels, m.surfels_rejected_by_capacity);
     }
@@ -231,6 +239,21 @@ Result<Checkpoint> decode(const uint8_t* data, size_t size, uint32_t version,
         m.class_id = class_id;
         m.frames_lost = frames_lost;
         m.state = retired ? objects::ObjectState::kRetired : objects::ObjectState::kActive;
+        if (version >= 3) {
+            uint8_t moving = 0, anchored = 0;
+            int32_t over = 0, within = 0, proven = 0;
+            if (!r.get(&moving) || !r.get(&anchored) || !r.get_pose(&m.mover.anchor) ||
+                !r.get(&over) || !r.get_pose(&m.mover.still_since) || !r.get(&within) ||
+                !r.get(&proven)) {
+                return bad("payload ends inside object map " + std::to_string(id) +
+                           "'s mover evidence");
+            }
+            m.mover.moving = moving != 0;
+            m.mover.anchored = anchored != 0;
+            m.mover.frames_over = over;
+            m.mover.frames_within = within;
+            m.mover.times_proven = proven;
+        }
         if (!r.get_trajectory(&m.trajectory, &n)) {
             return bad("object map " + std::to_string(id) + ": trajectory count " +
                        std::to_string(n) + " does not fit the file");
@@ -307,7 +330,7 @@ Result<Checkpoint> read_checkpoint(const std::string& file) {
     uint64_t length = 0;
     std::memcpy(&version, bytes.data() + sizeof kMagic, sizeof version);
     std::memcpy(&length, bytes.data() + sizeof kMagic + 4, sizeof length);
-    if (version != kVersion && version != 1) {
+    if (version < 1 || version > kVersion) {
         return error(StatusCode::kIoError, what + "version " + std::to_string(version) +
                                                ", this build reads versions 1 to " +
                                                std::to_string(kVersion));

@@ -81,8 +81,7 @@ SystemState SlamSystem::state() const {
 SlamSystem::SlamSystem(const SystemConfig& config, const Eigen::Isometry3d& initial)
     : config_(config),
       static_(0, config.map),
-      objects_(config.objects, config.tracking, config.map, config.prediction,
-               config.preprocess),
+      objects_(config.objects, config.tracking, config.map, config.prediction, config.preprocess),
       world_T_camera_(orthonormalized(initial)) {}
 
 Result<FrameReport> SlamSystem::process(const io::RgbdImage& image,
@@ -94,10 +93,15 @@ Result<FrameReport> SlamSystem::process(const io::RgbdImage& image,
     report.sensor_ns = image.sensor_ns;
     Input in;
     DF_RETURN_IF_ERROR(prepare(image, segments, where, &in, &report));
+    rebuild_if_needed(&report);
     carry_instances(&in, &report);
-    recall_instances(&in);
+    // With keep_until_moving the memory holds only proven movers' pixels (what was left out),
+    // so it is recalled after the object maps decided which rigid instances stay in.
+    const bool recall_first = !config_.objects.keep_until_moving;
+    if (recall_first) recall_instances(&in);
     const Eigen::Isometry3d guess = pose_guess();
     DF_RETURN_IF_ERROR(predict_objects(guess, &in, &report).with_context(where));
+    if (!recall_first) recall_instances(&in);
     if (!started_) {
         report.first = true;
         report.tracking.state = TrackingState::kOk;
@@ -189,7 +193,9 @@ Status SlamSystem::predict_objects(const Eigen::Isometry3d& guess, Input* in, Fr
     // is not fused, so the map keeps the furniture where it was: were it fused, an object that
     // starts to move slowly would be followed by the map and drag the camera with it.
     const objects::ObjectMapsConfig& c = config_.objects;
-    if (c.static_explained_fraction < 1.f) {
+    if (c.keep_until_moving) {
+        keep_unproven_in_static(in);
+    } else if (c.static_explained_fraction < 1.f) {
         for (uint16_t id : objects::explained_by_background(
                  in->segments.objects, in->objects.association, in->frame.levels[0].depth_m,
                  background, c.static_explained_fraction, c.association)) {
@@ -206,7 +212,7 @@ Status SlamSystem::predict_objects(const Eigen::Isometry3d& guess, Input* in, Fr
     for (const dynamics::InstanceInfo& row : in->segments.objects.instances)
         next = std::max(next, row.id + 1);
     for (const objects::ObjectReport& r : in->objects.reports) {
-        if (r.pixels == 0 || next > 65535) continue;
+        if (r.pixels == 0 || next > 65535 || (c.keep_until_moving && !r.moving)) continue;
         const cv::Mat claimed =
             (in->objects.object_ids == static_cast<uint16_t>(r.id)) & (in->instance_ids == 0);
         const int pixels = cv::countNonZero(claimed);
@@ -223,6 +229,32 @@ Status SlamSystem::predict_objects(const Eigen::Isometry3d& guess, Input* in, Fr
     }
     report->times.objects_predict_ms = ms_since(t);
     return Status::ok();
+}
+
+void SlamSystem::keep_unproven_in_static(Input* in) const {
+    // The rigid instances matched to a proven mover stay left out; every other rigid instance
+    // (matched to a map not proven moving, or to none) is kept in the static map's tracking and
+    // fusion. Persons and instances of unknown kind are not rigid and stay out.
+    std::vector<uint8_t> mover(65536, 0);
+    const objects::Association& a = in->objects.association;
+    for (size_t k = 0; k < a.instance_of_view.size() && k < in->objects.reports.size(); ++k)
+        if (a.instance_of_view[k] != 0 && in->objects.reports[k].moving)
+            mover[a.instance_of_view[k]] = 1;
+    std::vector<uint8_t> release(65536, 0);
+    bool any = false;
+    for (const dynamics::InstanceInfo& row : in->segments.objects.instances) {
+        if (row.kind == dynamics::ObjectKind::kRigid && !mover[row.id]) {
+            release[row.id] = 1;
+            any = true;
+        }
+    }
+    if (!any) return;
+    for (int y = 0; y < in->instance_ids.rows; ++y) {
+        uint16_t* l = in->instance_ids.ptr<uint16_t>(y);
+        for (int x = 0; x < in->instance_ids.cols; ++x)
+            if (release[l[x]]) l[x] = 0;
+    }
+    in->instances = in->instance_ids != 0;
 }
 
 void SlamSystem::keep_explained_out_of_fusion(const Input& in, dynamics::InvalidMask* invalid) {
@@ -301,10 +333,9 @@ Status SlamSystem::track_static(const Input& in, const Eigen::Isometry3d& guess,
             motion.history_source = [&, fx, fy, cx, cy](const cv::Mat& needed) {
                 const HistoryFrame& old = history_.front();
                 const Eigen::Isometry3d old_T_current = old.world_T_camera.inverse() * stage1_pose;
-                return dynamics::history_evidence(in.frame.levels[0].vertex, residual,
-                                                  old.depth_m, old.rigid,
-                                                  old_T_current.cast<float>(), fx, fy, cx, cy,
-                                                  d.motion, needed);
+                return dynamics::history_evidence(in.frame.levels[0].vertex, residual, old.depth_m,
+                                                  old.rigid, old_T_current.cast<float>(), fx, fy,
+                                                  cx, cy, d.motion, needed);
             };
         }
         // Free space an older frame saw that this one fills: the oldest frame kept (in a
@@ -313,11 +344,10 @@ Status SlamSystem::track_static(const Input& in, const Eigen::Isometry3d& guess,
             motion.filled_source = [&, fx, fy, cx, cy](const cv::Mat& candidates) {
                 const HistoryFrame& old = history_.front();
                 const Eigen::Isometry3d old_T_current = old.world_T_camera.inverse() * stage1_pose;
-                return dynamics::free_space_filled(in.frame.levels[0].vertex,
-                                                   old.far_depth_m.empty() ? old.depth_m
-                                                                           : old.far_depth_m,
-                                                   old_T_current.cast<float>(), fx, fy, cx, cy,
-                                                   d.motion, candidates);
+                return dynamics::free_space_filled(
+                    in.frame.levels[0].vertex,
+                    old.far_depth_m.empty() ? old.depth_m : old.far_depth_m,
+                    old_T_current.cast<float>(), fx, fy, cx, cy, d.motion, candidates);
             };
         }
         if (d.carry_forward && !previous_motion_.empty() && !lost_) {
@@ -338,6 +368,11 @@ Status SlamSystem::track_static(const Input& in, const Eigen::Isometry3d& guess,
     report->invalid =
         dynamics::combine(in.segments, in.instance_ids, report->motion.mask, residual, d.invalid);
     keep_explained_out_of_fusion(in, &report->invalid);
+    report->guard = guard_reason(in, report->invalid);
+    if (!report->guard.empty()) {
+        ++guards_.frames_guarded;
+        return track_guarded(in, guess, residual, report);
+    }
 
     const bool stage1_ok = stage1->state == TrackingState::kOk;
     const bool rescuable =
@@ -365,6 +400,107 @@ Status SlamSystem::track_static(const Input& in, const Eigen::Isometry3d& guess,
     return Status::ok();
 }
 
+cv::Mat SlamSystem::non_rigid_mask(const Input& in) {
+    std::vector<uint8_t> non_rigid(65536, 0);
+    for (const dynamics::InstanceInfo& row : in.segments.objects.instances)
+        if (row.kind == dynamics::ObjectKind::kNonRigid) non_rigid[row.id] = 1;
+    cv::Mat mask = cv::Mat::zeros(in.instance_ids.size(), CV_8UC1);
+    for (int y = 0; y < mask.rows; ++y) {
+        const uint16_t* l = in.instance_ids.ptr<uint16_t>(y);
+        uint8_t* m = mask.ptr<uint8_t>(y);
+        for (int x = 0; x < mask.cols; ++x)
+            if (non_rigid[l[x]]) m[x] = 255;
+    }
+    return mask;
+}
+
+std::string SlamSystem::guard_reason(const Input& in, const dynamics::InvalidMask& invalid) const {
+    const DynamicsOptions& d = config_.dynamics;
+    if (invalid.tracking.empty()) return "";
+    // Over the pixels with depth that are not a person's: what the guard would give back.
+    const cv::Mat& depth = in.frame.levels[0].depth_m;
+    cv::Mat with_depth = depth > 0.f;
+    with_depth.setTo(0, non_rigid_mask(in));
+    const int pixels = cv::countNonZero(with_depth);
+    if (pixels == 0) return "";
+    const int left_out = cv::countNonZero(with_depth & invalid.tracking);
+    const double fraction = static_cast<double>(left_out) / pixels;
+    if (d.guard_max_left_out_fraction < 1.f && fraction > d.guard_max_left_out_fraction) {
+        return "the invalid mask would leave out " + std::to_string(int(100 * fraction + 0.5)) +
+               " % of the frame's depth that is not a person's "
+               "(dynamics.guard_max_left_out_fraction " +
+               std::to_string(d.guard_max_left_out_fraction) + ")";
+    }
+    const cv::Mat z = static_depth();
+    if (d.guard_min_model_fraction > 0.f && !z.empty() && cv::countNonZero(invalid.tracking) > 0) {
+        const int model = cv::countNonZero((z > 0.f) & ~invalid.tracking);
+        const double seen = static_cast<double>(model) / static_cast<double>(z.total());
+        if (seen < d.guard_min_model_fraction)
+            return "the static model outside the invalid mask covers " +
+                   std::to_string(int(100 * seen + 0.5)) +
+                   " % of the frame (dynamics.guard_min_model_fraction " +
+                   std::to_string(d.guard_min_model_fraction) + ")";
+    }
+    return "";
+}
+
+Status SlamSystem::track_guarded(const Input& in, const Eigen::Isometry3d& guess,
+                                 const cv::Mat& residual, FrameReport* report) {
+    // Only the non-rigid instances (persons) stay out: what else the mask held is more likely a
+    // wrong pose or a starved map than a scene that moves all at once.
+    const auto t = std::chrono::steady_clock::now();
+    cv::Mat persons = in.instance_ids.clone();
+    persons.setTo(0, ~non_rigid_mask(in));
+    // What the untrusted mask held stays out of fusion: if it was a mover after all, the map
+    // does not take it in; if the pose was wrong, nothing wrong is fused at it.
+    const cv::Mat fusion = report->invalid.fusion;
+    report->invalid =
+        dynamics::combine(in.segments, persons, cv::Mat(), residual, config_.dynamics.invalid);
+    if (!fusion.empty()) report->invalid.fusion = fusion;
+    const cv::Mat mask =
+        cv::countNonZero(report->invalid.tracking) > 0 ? report->invalid.tracking : cv::Mat();
+    Result<TrackingResult> guarded = static_.track(in.frame, guess, mask, config_.tracking);
+    if (!guarded) return guarded.status();
+    report->stage2 = *guarded;
+    report->stage2_ran = true;
+    if (guarded->state == TrackingState::kOk || report->stage1.state != TrackingState::kOk)
+        report->tracking = *guarded;
+    report->times.stage2_ms = ms_since(t);
+    report->times.tracking_ms =
+        report->times.stage1_ms + report->times.motion_ms + report->times.stage2_ms;
+    static_.set_last_tracking(report->tracking);
+    return Status::ok();
+}
+
+void SlamSystem::rebuild_if_needed(FrameReport* report) {
+    const int after = config_.dynamics.rebuild_after_lost_frames;
+    if (!started_ || after <= 0) return;
+    std::string why;
+    if (static_.map().size() == 0) {
+        why = "the static map is empty";
+    } else if (lost_run_ >= static_cast<uint64_t>(after)) {
+        why = "tracking was lost " + std::to_string(lost_run_) +
+              " frames in a row (dynamics.rebuild_after_lost_frames " + std::to_string(after) + ")";
+    } else {
+        return;
+    }
+    // A new static map from this frame on, at the last tracked pose: the trajectory goes on in
+    // a new segment. What was learnt about the old map's frames goes with it.
+    static_ = MapInstance(0, config_.map);
+    started_ = false;
+    lost_ = false;
+    lost_run_ = 0;
+    map_start_time_ = map_time_;
+    last_motion_ = Eigen::Isometry3d::Identity();
+    previous_motion_.release();
+    history_.clear();
+    memory_.clear();
+    propagation_.clear();
+    ++guards_.rebuilds;
+    guards_.segment_starts.push_back(frames_);
+    report->rebuilt = why;
+}
+
 void SlamSystem::update_pose(int64_t sensor_ns, FrameReport* report) {
     const bool ok = report->tracking.state == TrackingState::kOk;
     if (ok) {
@@ -374,8 +510,10 @@ void SlamSystem::update_pose(int64_t sensor_ns, FrameReport* report) {
         }
         world_T_camera_ = report->tracking.world_T_camera;
         trajectory_.push_back(io::stamped_pose(sensor_ns, world_T_camera_));
+        lost_run_ = 0;
     } else {
         ++lost_frames_;
+        ++lost_run_;
     }
     lost_ = !ok;
     report->world_T_camera = world_T_camera_;
@@ -392,10 +530,9 @@ Status SlamSystem::map_static(const Input& in, FrameReport* report) {
     const cv::Mat& mask = report->invalid.fusion;
     const bool masked = !mask.empty() && cv::countNonZero(mask) > 0;
     const map::PredictionConfig model = model_prediction();
-    Result<map::FusionStats> stats =
-        static_.fuse(in.frame, in.image.rgb, masked ? mask : cv::Mat(), world_T_camera_, map_time_,
-                     config_.system.associate_by_prediction, model, true,
-                     config_.system.model_from_association);
+    Result<map::FusionStats> stats = static_.fuse(
+        in.frame, in.image.rgb, masked ? mask : cv::Mat(), world_T_camera_, map_time_,
+        config_.system.associate_by_prediction, model, true, config_.system.model_from_association);
     if (!stats) return stats.status();
     report->fused = true;
     report->fusion = *stats;
@@ -405,8 +542,9 @@ Status SlamSystem::map_static(const Input& in, FrameReport* report) {
 
 map::PredictionConfig SlamSystem::model_prediction() const {
     map::PredictionConfig prediction = config_.prediction;
-    prediction.min_confidence =
-        map_time_ <= config_.system.bootstrap_frames ? 0.f : config_.system.predict_min_confidence;
+    prediction.min_confidence = map_time_ - map_start_time_ <= config_.system.bootstrap_frames
+                                    ? 0.f
+                                    : config_.system.predict_min_confidence;
     return prediction;
 }
 

@@ -71,6 +71,12 @@ struct FrameReport {
     dynamics::LabelImage instances;
     int detections_age = 0;  ///< the frame's segments' detections_age
     int carried = 0;         ///< instances carried forward into this frame
+    /// Why the frame was tracked and fused with only its persons left out ("" when it was not):
+    /// its invalid mask would have left out too much, or too little static model (guards).
+    std::string guard;
+    /// Why the static map was rebuilt from this frame ("" when it was not): it was empty, or the
+    /// camera was lost too long. The trajectory starts a new segment here.
+    std::string rebuilt;
     StageTimes times;
 };
 
@@ -90,6 +96,14 @@ struct SystemState {
     int input_width = 0;  ///< of the first frame (0 before it)
     int input_height = 0;
     objects::ObjectMapsState objects;  ///< every object map, live and retired
+};
+
+/// What the guards against self-harm did over a run (docs/dynamics.md, "Guards").
+struct GuardCounters {
+    uint64_t frames_guarded = 0;  ///< frames tracked and fused with only persons left out
+    uint64_t rebuilds = 0;        ///< times the static map was rebuilt
+    /// The frame numbers (0-based) each trajectory segment after the first starts at.
+    std::vector<uint64_t> segment_starts;
 };
 
 class SlamSystem {
@@ -127,6 +141,8 @@ class SlamSystem {
     /// Every object map of the run (live and retired) and the run's object counters.
     const objects::ObjectMaps& object_maps() const { return objects_; }
     const SystemConfig& config() const { return config_; }
+    /// What the guards did so far.
+    const GuardCounters& guards() const { return guards_; }
     /// The current pose (the last tracked one).
     const Eigen::Isometry3d& world_T_camera() const { return world_T_camera_; }
     /// The model the next frame is tracked against, and the pose it was predicted at.
@@ -153,9 +169,9 @@ class SlamSystem {
         io::RgbdImage full;                ///< as it came (the sensor's resolution)
         dynamics::FrameSegments segments;  ///< at the processing resolution (checked)
         Frame frame;
-        cv::Mat instance_ids;          ///< CV_16UC1, the instances left out (instance_labels)
-        cv::Mat instances;             ///< CV_8UC1, instance_ids as a mask (255 = left out)
-        cv::Mat rigid;                 ///< CV_8UC1, the rigid instances this frame's segments hold
+        cv::Mat instance_ids;  ///< CV_16UC1, the instances left out (instance_labels)
+        cv::Mat instances;     ///< CV_8UC1, instance_ids as a mask (255 = left out)
+        cv::Mat rigid;         ///< CV_8UC1, the rigid instances this frame's segments hold
         /// CV_8UC1 (or empty), rigid instances the static map already explains (furniture):
         /// tracked against the static map, but not fused into it.
         cv::Mat explained;
@@ -180,6 +196,22 @@ class SlamSystem {
     /// Renders the object maps at `guess`, associates them with the frame's instances and
     /// leaves the pixels they claim out of the static map (as rigid instances).
     Status predict_objects(const Eigen::Isometry3d& guess, Input* in, FrameReport* report);
+    /// With objects.keep_until_moving: the rigid instances not matched to a proven mover leave
+    /// in->instance_ids (they stay in the static map's tracking and fusion).
+    void keep_unproven_in_static(Input* in) const;
+    /// CV_8UC1, 255 on the pixels of in.instance_ids that belong to non-rigid instances.
+    static cv::Mat non_rigid_mask(const Input& in);
+    /// Why the frame's invalid mask is not to be trusted ("" when it is): it leaves out more
+    /// than dynamics.guard_max_left_out_fraction of the frame's depth, or the static model
+    /// outside it covers less than dynamics.guard_min_model_fraction of the frame.
+    std::string guard_reason(const Input& in, const dynamics::InvalidMask& invalid) const;
+    /// Tracks the frame with only its non-rigid instances left out (from `guess`) and makes
+    /// that the invalid mask for tracking and fusion.
+    Status track_guarded(const Input& in, const Eigen::Isometry3d& guess, const cv::Mat& residual,
+                         FrameReport* report);
+    /// Starts a new static map from this frame, at the last tracked pose, when the map is
+    /// empty or the camera was lost dynamics.rebuild_after_lost_frames frames in a row.
+    void rebuild_if_needed(FrameReport* report);
     /// Adds in.explained (furniture the static map holds) to the pixels left out of fusion.
     static void keep_explained_out_of_fusion(const Input& in, dynamics::InvalidMask* invalid);
     /// Stage 1, motion segmentation, stage 2; fills report->tracking and report->invalid.
@@ -204,8 +236,8 @@ class SlamSystem {
     objects::ObjectMaps objects_;
     Eigen::Isometry3d world_T_camera_;
     Eigen::Isometry3d last_motion_ = Eigen::Isometry3d::Identity();  ///< previous_T_current
-    cv::Mat previous_motion_;          ///< the last frame's motion mask (carried forward)
-    dynamics::InstanceMemory memory_;  ///< rigid instances of the last frames
+    cv::Mat previous_motion_;                    ///< the last frame's motion mask (carried forward)
+    dynamics::InstanceMemory memory_;            ///< rigid instances of the last frames
     dynamics::InstancePropagation propagation_;  ///< the last frame's instances
     /// One tracked frame as motion segmentation's free-space evidence remembers it.
     struct HistoryFrame {
@@ -213,7 +245,7 @@ class SlamSystem {
         /// level 0 up to motion.seen_through_max_depth_m (beyond preprocessing's cut): what the
         /// frame saw far away still tells free space (empty: depth_m is that)
         cv::Mat far_depth_m;
-        cv::Mat rigid;    ///< its rigid instances (object maps' claims included)
+        cv::Mat rigid;  ///< its rigid instances (object maps' claims included)
         Eigen::Isometry3d world_T_camera;
         int64_t sensor_ns = 0;
         uint64_t frame_number = 0;
@@ -223,7 +255,10 @@ class SlamSystem {
     std::vector<io::StampedPose> trajectory_;
     uint64_t frames_ = 0;
     uint64_t lost_frames_ = 0;
-    int map_time_ = 0;  ///< frame counter of the map (frames fused or tracked)
+    int map_time_ = 0;        ///< frame counter of the map (frames fused or tracked)
+    int map_start_time_ = 0;  ///< map_time_ when the static map was (re)built
+    uint64_t lost_run_ = 0;   ///< frames lost in a row
+    GuardCounters guards_;
     bool started_ = false;
     bool lost_ = false;
     cv::Size input_size_;

@@ -150,18 +150,17 @@ int cmd_recon(const std::string& gt_ply, const std::string& est_ply,
     std::fputs(
         eval::format_reconstruction(*recon, "Reconstruction: " + est_ply + " vs " + gt_ply).c_str(),
         stdout);
-    json result = {
-        {"gt", gt_ply}, {"est", est_ply}, {"reconstruction", eval::to_json(*recon)}};
+    json result = {{"gt", gt_ply}, {"est", est_ply}, {"reconstruction", eval::to_json(*recon)}};
     if (registration) {
-        auto registered = eval::score_registered(gt->positions, est->positions, gt_T_est, config,
-                                                 *registration);
+        auto registered =
+            eval::score_registered(gt->positions, est->positions, gt_T_est, config, *registration);
         if (!registered) return fail(registered.status().with_context(est_ply + " onto " + gt_ply));
-        std::fputs(eval::format_reconstruction(
-                       registered->score, "After rigid registration onto the ground truth (" +
-                                              eval::format_registration(registered->registration) +
-                                              ")")
-                       .c_str(),
-                   stdout);
+        std::fputs(
+            eval::format_reconstruction(
+                registered->score, "After rigid registration onto the ground truth (" +
+                                       eval::format_registration(registered->registration) + ")")
+                .c_str(),
+            stdout);
         result["registered"] = eval::to_json(registered->score);
         result["registered"]["registration"] = eval::to_json(registered->registration);
     }
@@ -177,6 +176,26 @@ int cmd_seg(const std::string& gt_sequence, const std::string& pred_dir,
         stdout);
     return finish(out,
                   {{"gt", gt_sequence}, {"pred", pred_dir}, {"segmentation", eval::to_json(*seg)}});
+}
+
+int cmd_mask(const std::string& gt_dir, const std::string& pred_dir, const Outputs& out) {
+    auto score = eval::score_mask_folders(gt_dir, pred_dir);
+    if (!score) return fail(score.status());
+    std::printf(
+        "Masks: %s vs %s\n  frames %d (%d with a mask, %d without a prediction)\n"
+        "  IoU mean %.3f, pooled %.3f; precision %.3f, recall %.3f\n",
+        pred_dir.c_str(), gt_dir.c_str(), score->frames, score->frames_with_gt, score->missing,
+        score->mean_iou, score->pooled_iou, score->mean_precision, score->mean_recall);
+    return finish(out, {{"gt", gt_dir},
+                        {"pred", pred_dir},
+                        {"mask",
+                         {{"frames", score->frames},
+                          {"frames_with_gt", score->frames_with_gt},
+                          {"missing", score->missing},
+                          {"mean_iou", score->mean_iou},
+                          {"pooled_iou", score->pooled_iou},
+                          {"mean_precision", score->mean_precision},
+                          {"mean_recall", score->mean_recall}}}});
 }
 
 int cmd_timing(const std::vector<std::string>& logs, const Outputs& out) {

@@ -37,6 +37,8 @@ int cmd_recon(const std::string& gt_ply, const std::string& est_ply,
               const std::optional<eval::RegistrationConfig>& registration, const Outputs& out);
 int cmd_seg(const std::string& gt_sequence, const std::string& pred_dir,
             const eval::SegmentationConfig& config, const Outputs& out);
+/// Binary masks (non-zero = in) of `pred_dir` against those of `gt_dir`, by file name.
+int cmd_mask(const std::string& gt_dir, const std::string& pred_dir, const Outputs& out);
 int cmd_timing(const std::vector<std::string>& logs, const Outputs& out);
 
 struct RunOptions {

@@ -146,6 +146,16 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     add_outputs(seg, &out, false);
 
+    auto* mask = app.add_subcommand(
+        "mask", "binary masks (non-zero = in) against ground-truth masks of the same file names");
+    mask->add_option("GT_MASK_DIR", gt, "ground-truth masks, <name>.png (e.g. a sequence's masks/)")
+        ->required();
+    mask->add_option("PRED_DIR", est,
+                     "predicted masks or label PNGs of the same names (e.g. a "
+                     "run's invalid/)")
+        ->required();
+    add_outputs(mask, &out, false);
+
     std::vector<std::string> logs;
     auto* timing = app.add_subcommand(
         "timing",
@@ -191,10 +201,12 @@ int main(int argc, char** argv) {
     if (ate->parsed()) return cmd_ate(gt, est, association, out);
     if (rpe_cmd->parsed()) return cmd_rpe(gt, est, rpe, out);
     if (object->parsed()) return cmd_object(gt, est, association, rpe, object_options, out);
-    if (recon->parsed()) return cmd_recon(gt, est, recon_config, transform,
+    if (recon->parsed())
+        return cmd_recon(gt, est, recon_config, transform,
                          recon_register ? std::optional(registration_config) : std::nullopt, out);
     if (seg->parsed()) return cmd_seg(gt, est, seg_config, out);
     if (timing->parsed()) return cmd_timing(logs, out);
+    if (mask->parsed()) return cmd_mask(gt, est, out);
     run_options.plots = !no_plots;
     run_options.align_map = !no_align_map;
     return cmd_run(gt, est, run_options);

@@ -4,8 +4,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <opencv2/core.hpp>
 #include <sstream>
 
+#include "core/log.hpp"
 #include "detect/detector.hpp"
 #include "eval/stats.hpp"
 #include "eval/timing.hpp"
@@ -82,14 +84,37 @@ void RunOutputs::add(uint64_t seq, const slam::FrameReport& report) {
             motion_fraction_.push_back(static_cast<double>(report.motion.mask_pixels) /
                                        report.motion.residual_pixels);
     }
+    if (!report.invalid.tracking.empty())
+        left_out_fraction_.push_back(
+            static_cast<double>(cv::countNonZero(report.invalid.tracking)) /
+            static_cast<double>(report.invalid.tracking.total()));
+    else
+        left_out_fraction_.push_back(0.0);
+    if (!report.guard.empty() && !guard_logged_) {
+        log::warn("seq=", seq, " guard: ", report.guard,
+                  "; tracked and fused with only persons left out (logged once; summary.json "
+                  "counts such frames)");
+        guard_logged_ = true;
+    }
+    if (!report.rebuilt.empty())
+        log::warn("seq=", seq, " static map rebuilt: ", report.rebuilt,
+                  "; the trajectory goes on from the last tracked pose in a new segment");
+    for (const objects::ObjectReport& o : report.objects)
+        if (o.mover_changed)
+            log::info("seq=", seq, " object ", o.id,
+                      o.moving ? " moves: left out of the static map"
+                               : " stands still again: back in the static map");
     if (report.fused) {
         fusion_ms_.push_back(t.fusion_ms);
         prediction_ms_.push_back(t.prediction_ms);
         if (frames_ % 10 == 0) map_growth_.push_back({frames_, report.fusion.total});
     }
-    if (report.detections_age == 0) ++own_detections_;
-    else if (report.detections_age > 0) ++reused_detections_;
-    else ++no_detections_;
+    if (report.detections_age == 0)
+        ++own_detections_;
+    else if (report.detections_age > 0)
+        ++reused_detections_;
+    else
+        ++no_detections_;
     if (report.carried > 0) {
         ++carried_;
         for (const dynamics::InstanceInfo& row : report.instances.instances)
@@ -106,7 +131,8 @@ Status RunOutputs::finish(const slam::SlamSystem& system, bool stable_only, doub
     Status map = system.write_map(map_file(), stable_only);
     if (first.is_ok()) first = map;
     if (!system.object_maps().objects().empty()) {
-        Status objects = objects::write_objects(dir_, system.object_maps(), class_name, stable_only);
+        Status objects =
+            objects::write_objects(dir_, system.object_maps(), class_name, stable_only);
         if (first.is_ok()) first = objects;
     }
 
@@ -118,15 +144,9 @@ Status RunOutputs::finish(const slam::SlamSystem& system, bool stable_only, doub
       << ",\n  \"fps\": " << (wall_s > 0 ? static_cast<double>(system.frames()) / wall_s : 0.0)
       << ",\n  \"stages_ms\": {";
     const std::pair<const char*, const std::vector<double>*> stages[] = {
-        {"preprocess", &preprocess_ms_},
-        {"tracking", &tracking_ms_},
-        {"stage1", &stage1_ms_},
-        {"motion", &motion_ms_},
-        {"stage2", &stage2_ms_},
-        {"objects", &objects_ms_},
-        {"fusion", &fusion_ms_},
-        {"prediction", &prediction_ms_},
-        {"total", &total_ms_}};
+        {"preprocess", &preprocess_ms_}, {"tracking", &tracking_ms_},     {"stage1", &stage1_ms_},
+        {"motion", &motion_ms_},         {"stage2", &stage2_ms_},         {"objects", &objects_ms_},
+        {"fusion", &fusion_ms_},         {"prediction", &prediction_ms_}, {"total", &total_ms_}};
     bool comma = false;
     for (const auto& [name, values] : stages) {
         const StageFigures f = figures(*values);
@@ -145,6 +165,20 @@ Status RunOutputs::finish(const slam::SlamSystem& system, bool stable_only, doub
       << (motion_fraction_.empty() ? 0.0 : fraction_sum / motion_fraction_.size())
       << ", \"max\": " << fraction_max << ", \"frames_flagged\": " << flagged
       << ", \"frames\": " << motion_fraction_.size() << "}";
+    double left_sum = 0, left_max = 0;
+    for (double f : left_out_fraction_) {
+        left_sum += f;
+        left_max = std::max(left_max, f);
+    }
+    j << ",\n  \"left_out_fraction\": {\"mean\": "
+      << (left_out_fraction_.empty() ? 0.0 : left_sum / left_out_fraction_.size())
+      << ", \"max\": " << left_max << "}";
+    const slam::GuardCounters& g = system.guards();
+    j << ",\n  \"guards\": {\"frames_guarded\": " << g.frames_guarded
+      << ", \"rebuilds\": " << g.rebuilds << ", \"segment_starts\": [";
+    for (size_t i = 0; i < g.segment_starts.size(); ++i)
+        j << (i ? ", " : "") << g.segment_starts[i];
+    j << "]}";
     // Masks for every frame (docs/dynamics.md, "Masks for every frame"): this run's frames by
     // the age of their detections, and those that got instances carried forward.
     j << ",\n  \"masks\": {\"own_detections\": " << own_detections_
@@ -154,8 +188,7 @@ Status RunOutputs::finish(const slam::SlamSystem& system, bool stable_only, doub
     j << ",\n  \"surfels\": " << m.size() << ",\n  \"stable_surfels\": " << m.stable_count()
       << ",\n  \"map_bytes\": " << m.size() * sizeof(map::Surfel)
       << ",\n  \"surfels_rejected_by_capacity\": " << m.total_rejected_by_capacity()
-      << ",\n  \"objects\": " << system.object_maps().objects().size()
-      << ",\n  \"map_growth\": [";
+      << ",\n  \"objects\": " << system.object_maps().objects().size() << ",\n  \"map_growth\": [";
     for (size_t i = 0; i < map_growth_.size(); ++i) {
         j << (i ? ", " : "") << "[" << map_growth_[i].frame << ", " << map_growth_[i].surfels
           << "]";

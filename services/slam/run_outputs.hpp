@@ -51,8 +51,10 @@ class RunOutputs {
     std::shared_ptr<std::FILE> trajectory_;  // O_APPEND: lines land after finish()'s rewrite
     std::vector<double> preprocess_ms_, tracking_ms_, fusion_ms_, prediction_ms_, total_ms_;
     std::vector<double> stage1_ms_, motion_ms_, stage2_ms_;  ///< parts of tracking_ms_
-    std::vector<double> objects_ms_;  ///< object maps: prediction, tracking, mapping
-    std::vector<double> motion_fraction_;  ///< per frame: flagged / looked-at pixels
+    std::vector<double> objects_ms_;         ///< object maps: prediction, tracking, mapping
+    std::vector<double> motion_fraction_;    ///< per frame: flagged / looked-at pixels
+    std::vector<double> left_out_fraction_;  ///< per frame: left out of tracking / all pixels
+    bool guard_logged_ = false;              ///< a guard's first frame was logged
     struct MapSample {
         uint64_t frame;
         size_t surfels;
