@@ -224,6 +224,16 @@ void build_cars(Sequence* s, const PhotoLibrary* photos, int n) {
     s->camera.seed = s->seed;
 }
 
+/// A hand-held camera at `position` looking at `target`, its tremor `amplitude` times the
+/// path's default, seeded by the sequence.
+void handheld_camera(Sequence* s, const Vec3& position, const Vec3& target, double amplitude) {
+    s->camera.motion = CameraMotion::kHandheld;
+    s->camera.position = position;
+    s->camera.target = target;
+    s->camera.amplitude = amplitude;
+    s->camera.seed = s->seed;
+}
+
 /// A large object of a known rigid class that never moves, filling about a third of the view of
 /// a hand-held camera (the real teddy bear case, docs/dynamics.md): a detected object must stay
 /// in the static map until its own tracking shows it moving.
@@ -236,11 +246,7 @@ void build_large_still_object(Sequence* s, const PhotoLibrary* photos) {
     scene.objects.push_back(rigid("car_1", 2, "car",
                                   make_car(&scene, vary(Rgb(0.2, 0.3, 0.75), &rng), 0.32),
                                   std::make_shared<GroundMotion>(parked)));
-    s->camera.motion = CameraMotion::kHandheld;
-    s->camera.position = Vec3(0, -0.45, 0.95);
-    s->camera.target = Vec3(0, 0.9, 0.15);
-    s->camera.amplitude = 0.25;
-    s->camera.seed = s->seed;
+    handheld_camera(s, Vec3(0, -0.45, 0.95), Vec3(0, 0.9, 0.15), 0.25);
 }
 
 /// A large box of no known class, filling about a fifth of the view, that slides 0.35 m
@@ -263,11 +269,7 @@ void build_large_unknown_mover(Sequence* s, const PhotoLibrary* photos) {
         .close_loop(0.35);
     scene.objects.push_back(
         rigid("unknown_1", -1, "unknown", std::move(box), std::make_shared<GroundMotion>(slide)));
-    s->camera.motion = CameraMotion::kHandheld;
-    s->camera.position = Vec3(0, -0.3, 0.9);
-    s->camera.target = Vec3(0, 1.2, 0.2);
-    s->camera.amplitude = 0.25;
-    s->camera.seed = s->seed;
+    handheld_camera(s, Vec3(0, -0.3, 0.9), Vec3(0, 1.2, 0.2), 0.25);
 }
 
 }  // namespace
