@@ -5,17 +5,9 @@
 #include <opencv2/core.hpp>
 
 #include "slam_system/slam_system.hpp"
+#include "slam_system/stage_clock.hpp"
 
 namespace df::slam {
-namespace {
-
-double ms_since(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-        .count();
-}
-
-}  // namespace
-
 cv::Mat SlamSystem::non_rigid_mask(const Input& in) {
     std::vector<uint8_t> non_rigid(65536, 0);
     for (const dynamics::InstanceInfo& row : in.segments.objects.instances)

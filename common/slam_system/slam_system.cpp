@@ -1,4 +1,5 @@
 #include "slam_system/slam_system.hpp"
+#include "slam_system/stage_clock.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -8,15 +9,6 @@
 #include "slam/pose.hpp"
 
 namespace df::slam {
-namespace {
-
-double ms_since(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-        .count();
-}
-
-}  // namespace
-
 std::vector<std::pair<std::string, double>> StageTimes::steps() const {
     return {{"preprocess", preprocess_ms},
             {"tracking", tracking_ms},
