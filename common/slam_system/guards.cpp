@@ -9,17 +9,8 @@
 
 namespace df::slam {
 cv::Mat SlamSystem::non_rigid_mask(const Input& in) {
-    std::vector<uint8_t> non_rigid(65536, 0);
-    for (const dynamics::InstanceInfo& row : in.segments.objects.instances)
-        if (row.kind == dynamics::ObjectKind::kNonRigid) non_rigid[row.id] = 1;
-    cv::Mat mask = cv::Mat::zeros(in.instance_ids.size(), CV_8UC1);
-    for (int y = 0; y < mask.rows; ++y) {
-        const uint16_t* l = in.instance_ids.ptr<uint16_t>(y);
-        uint8_t* m = mask.ptr<uint8_t>(y);
-        for (int x = 0; x < mask.cols; ++x)
-            if (non_rigid[l[x]]) m[x] = 255;
-    }
-    return mask;
+    return dynamics::mask_of({in.instance_ids, in.segments.objects.instances},
+                             {dynamics::ObjectKind::kNonRigid}, in.instance_ids.size());
 }
 
 std::string SlamSystem::guard_reason(const Input& in, const dynamics::InvalidMask& invalid) const {
