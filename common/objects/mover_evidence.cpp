@@ -15,6 +15,10 @@ double mover_bound_m(double depth_m, const params::slam::Objects& c) {
     return c.mover_min_displacement_m + c.mover_displacement_per_m2 * depth_m * depth_m;
 }
 
+bool mover_settled(const MoverEvidence& e, const params::slam::Objects& c) {
+    return !e.moving && e.frames_settled >= c.settle_after_frames;
+}
+
 bool update_mover(MoverEvidence* e, const Eigen::Isometry3d& world_T_object,
                   const ObjectExtent& extent, double depth_m, const params::slam::Objects& c) {
     if (!e->anchored) {
@@ -26,6 +30,7 @@ bool update_mover(MoverEvidence* e, const Eigen::Isometry3d& world_T_object,
     const double bound = mover_bound_m(depth_m, c);
     if (!e->moving) {
         if (mover_displacement_m(e->anchor, world_T_object, extent) > bound) {
+            e->frames_settled = 0;
             if (++e->frames_over >= c.mover_after_frames) {
                 e->moving = true;
                 ++e->times_proven;
@@ -36,6 +41,7 @@ bool update_mover(MoverEvidence* e, const Eigen::Isometry3d& world_T_object,
             }
         } else {
             e->frames_over = 0;
+            ++e->frames_settled;
         }
         return false;
     }
@@ -44,6 +50,7 @@ bool update_mover(MoverEvidence* e, const Eigen::Isometry3d& world_T_object,
             e->moving = false;
             e->anchor = world_T_object;
             e->frames_over = 0;
+            e->frames_settled = e->frames_within;  // it stood still that long
             e->frames_within = 0;
             return true;
         }

@@ -35,7 +35,15 @@ struct MoverEvidence {
     Eigen::Isometry3d still_since = Eigen::Isometry3d::Identity();
     int frames_within = 0;
     int times_proven = 0;  ///< how often it became a proven mover
+    /// While not moving: tracked frames within the bound since the last frame beyond it (or
+    /// since the anchor); a candidate is settled (mover_settled) once this reaches
+    /// settle_after_frames.
+    int frames_settled = 0;
 };
+
+/// Whether the object is a settled candidate: not a proven mover, and tracked within the bound
+/// for settle_after_frames tracked frames (config keep_until_moving: fused into the static map).
+bool mover_settled(const MoverEvidence& evidence, const params::slam::Objects& config);
 
 /// The bound (metres) at depth `depth_m` (the object's distance along the camera's z).
 double mover_bound_m(double depth_m, const params::slam::Objects& config);

@@ -180,6 +180,7 @@ Result<ObjectFrame> ObjectMaps::predict_and_associate(const slam::Frame& frame,
         r.silhouette_pixels = out.association.silhouette_pixels_of_view[k];
         r.instance = out.association.instance_of_view[k];
         r.moving = o.mover.moving;
+        r.settled = mover_settled(o.mover, config_);
         // Its last tracked pose (the map's own may have been moved on by dead reckoning).
         r.world_T_object =
             o.trajectory.empty() ? o.map.world_T_map() : io::isometry_of(o.trajectory.back());
@@ -363,6 +364,7 @@ Status ObjectMaps::track(const slam::Frame& frame, const dynamics::LabelImage& i
         const double depth_m = (world_T_camera.inverse() * (world_T_object * extent.centroid)).z();
         r.mover_changed = update_mover(&o.mover, world_T_object, extent, depth_m, config_);
         r.moving = o.mover.moving;
+        r.settled = mover_settled(o.mover, config_);
     }
     previous_stamp_s_ = io::stamped_pose(frame.sensor_ns, Eigen::Isometry3d::Identity()).stamp_s;
     return Status::ok();

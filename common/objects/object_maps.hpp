@@ -100,6 +100,7 @@ struct ObjectReport {
     bool tracked = false;           ///< tracking ran and passed its checks
     bool moving = false;            ///< a proven mover (mover_evidence.hpp), as of this frame
     bool mover_changed = false;     ///< it became a proven mover, or still again, this frame
+    bool settled = false;           ///< a settled candidate (mover_settled), as of this frame
     slam::TrackingResult tracking;  ///< when tracking ran
     Eigen::Isometry3d world_T_object = Eigen::Isometry3d::Identity();
     size_t surfels = 0;

@@ -14,9 +14,10 @@ namespace {
 
 constexpr char kMagic[8] = {'D', 'F', 'S', 'L', 'A', 'M', 'C', 'K'};
 // Version 2 adds the object maps after the static surfels; version 3 each map's mover evidence
-// (objects/mover_evidence.hpp) after its body motion. Versions 1 (no object maps) and 2 (maps
-// not yet proven moving) are still read.
-constexpr uint32_t kVersion = 3;
+// (objects/mover_evidence.hpp) after its body motion, version 4 the evidence's settled count
+// after it. Versions 1 (no object maps), 2 (maps not yet proven moving) and 3 (maps not yet
+// settled) are still read.
+constexpr uint32_t kVersion = 4;
 constexpr size_t kHeaderBytes = sizeof kMagic + 4 + 8;
 constexpr size_t kSurfelBytes = 11 * 4 + 2 * 4;  // 11 floats, 2 int32
 constexpr size_t kPoseBytes = 8 * 8;
@@ -176,6 +177,7 @@ std::vector<uint8_t> encode(const Checkpoint& c) {
         w.put_pose(m.mover.still_since);
         w.put(static_cast<int32_t>(m.mover.frames_within));
         w.put(static_cast<int32_t>(m.mover.times_proven));
+        w.put(static_cast<int32_t>(m.mover.frames_settled));
         w.put_trajectory(m.trajectory);
         w.put_surfels(m.surfels, m.surfels_rejected_by_capacity);
     }
@@ -253,6 +255,14 @@ Result<Checkpoint> decode(const uint8_t* data, size_t size, uint32_t version,
             m.mover.frames_over = over;
             m.mover.frames_within = within;
             m.mover.times_proven = proven;
+        }
+        if (version >= 4) {
+            int32_t settled = 0;
+            if (!r.get(&settled)) {
+                return bad("payload ends inside object map " + std::to_string(id) +
+                           "'s mover evidence");
+            }
+            m.mover.frames_settled = settled;
         }
         if (!r.get_trajectory(&m.trajectory, &n)) {
             return bad("object map " + std::to_string(id) + ": trajectory count " +

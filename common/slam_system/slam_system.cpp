@@ -192,8 +192,7 @@ Status SlamSystem::predict_objects(const Eigen::Isometry3d& guess, Input* in, Fr
                  in->segments.objects, in->objects.association, in->frame.levels[0].depth_m,
                  background, c.static_explained_fraction, c.association)) {
             const cv::Mat pixels = in->instance_ids == id;
-            if (in->explained.empty()) in->explained = cv::Mat::zeros(pixels.size(), CV_8UC1);
-            in->explained.setTo(255, pixels);
+            hold_out_of_fusion(pixels, in);
             in->instance_ids.setTo(0, pixels);
         }
         in->instances = in->instance_ids != 0;
@@ -204,9 +203,14 @@ Status SlamSystem::predict_objects(const Eigen::Isometry3d& guess, Input* in, Fr
     for (const dynamics::InstanceInfo& row : in->segments.objects.instances)
         next = std::max(next, row.id + 1);
     for (const objects::ObjectReport& r : in->objects.reports) {
-        if (r.pixels == 0 || next > 65535 || (c.keep_until_moving && !r.moving)) continue;
+        if (r.pixels == 0 || next > 65535) continue;
         const cv::Mat claimed =
             (in->objects.object_ids == static_cast<uint16_t>(r.id)) & (in->instance_ids == 0);
+        if (c.keep_until_moving && !r.moving) {
+            // A candidate's pixels stay in tracking; until it settled, out of fusion.
+            if (!r.settled) hold_out_of_fusion(claimed, in);
+            continue;
+        }
         const int pixels = cv::countNonZero(claimed);
         if (pixels == 0) continue;
         dynamics::InstanceInfo row;
@@ -225,28 +229,46 @@ Status SlamSystem::predict_objects(const Eigen::Isometry3d& guess, Input* in, Fr
 
 void SlamSystem::keep_unproven_in_static(Input* in) const {
     // The rigid instances matched to a proven mover stay left out; every other rigid instance
-    // (matched to a map not proven moving, or to none) is kept in the static map's tracking and
-    // fusion. Persons and instances of unknown kind are not rigid and stay out.
-    std::vector<uint8_t> mover(65536, 0);
+    // (matched to a map not proven moving, or to none) is kept in the static map's tracking,
+    // and in its fusion once its map settled (objects.settle_after_frames): a mover is not built
+    // into the static map before its own tracking could show it moving. Persons and instances
+    // of unknown kind are not rigid and stay out.
+    enum : uint8_t { kKeep = 0, kTrackOnly = 1, kTrackAndFuse = 2 };
+    std::vector<uint8_t> mover(65536, 0), settled(65536, 0);
     const objects::Association& a = in->objects.association;
-    for (size_t k = 0; k < a.instance_of_view.size() && k < in->objects.reports.size(); ++k)
-        if (a.instance_of_view[k] != 0 && in->objects.reports[k].moving)
-            mover[a.instance_of_view[k]] = 1;
-    std::vector<uint8_t> release(65536, 0);
+    for (size_t k = 0; k < a.instance_of_view.size() && k < in->objects.reports.size(); ++k) {
+        const uint16_t id = a.instance_of_view[k];
+        if (id == 0) continue;
+        if (in->objects.reports[k].moving) mover[id] = 1;
+        if (in->objects.reports[k].settled) settled[id] = 1;
+    }
+    std::vector<uint8_t> release(65536, kKeep);
     bool any = false;
     for (const dynamics::InstanceInfo& row : in->segments.objects.instances) {
         if (row.kind == dynamics::ObjectKind::kRigid && !mover[row.id]) {
-            release[row.id] = 1;
+            release[row.id] = settled[row.id] ? kTrackAndFuse : kTrackOnly;
             any = true;
         }
     }
     if (!any) return;
+    cv::Mat track_only = cv::Mat::zeros(in->instance_ids.size(), CV_8UC1);
     for (int y = 0; y < in->instance_ids.rows; ++y) {
         uint16_t* l = in->instance_ids.ptr<uint16_t>(y);
-        for (int x = 0; x < in->instance_ids.cols; ++x)
-            if (release[l[x]]) l[x] = 0;
+        uint8_t* t = track_only.ptr<uint8_t>(y);
+        for (int x = 0; x < in->instance_ids.cols; ++x) {
+            if (release[l[x]] == kKeep) continue;
+            t[x] = release[l[x]] == kTrackOnly ? 255 : 0;
+            l[x] = 0;
+        }
     }
+    hold_out_of_fusion(track_only, in);
     in->instances = in->instance_ids != 0;
+}
+
+void SlamSystem::hold_out_of_fusion(const cv::Mat& pixels, Input* in) {
+    if (cv::countNonZero(pixels) == 0) return;
+    if (in->explained.empty()) in->explained = cv::Mat::zeros(pixels.size(), CV_8UC1);
+    in->explained.setTo(255, pixels);
 }
 
 void SlamSystem::keep_explained_out_of_fusion(const Input& in, dynamics::InvalidMask* invalid) {

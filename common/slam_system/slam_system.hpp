@@ -172,8 +172,9 @@ class SlamSystem {
         cv::Mat instance_ids;  ///< CV_16UC1, the instances left out (instance_labels)
         cv::Mat instances;     ///< CV_8UC1, instance_ids as a mask (255 = left out)
         cv::Mat rigid;         ///< CV_8UC1, the rigid instances this frame's segments hold
-        /// CV_8UC1 (or empty), rigid instances the static map already explains (furniture):
-        /// tracked against the static map, but not fused into it.
+        /// CV_8UC1 (or empty), pixels tracked against the static map but not fused into it:
+        /// rigid instances the static map already explains (furniture) and, with
+        /// objects.keep_until_moving, candidates not yet settled.
         cv::Mat explained;
         objects::ObjectFrame objects;  ///< the object maps' pixels of this frame
     };
@@ -197,8 +198,11 @@ class SlamSystem {
     /// leaves the pixels they claim out of the static map (as rigid instances).
     Status predict_objects(const Eigen::Isometry3d& guess, Input* in, FrameReport* report);
     /// With objects.keep_until_moving: the rigid instances not matched to a proven mover leave
-    /// in->instance_ids (they stay in the static map's tracking and fusion).
+    /// in->instance_ids (they stay in the static map's tracking, and in its fusion once their
+    /// map settled; until then in->explained).
     void keep_unproven_in_static(Input* in) const;
+    /// Adds `pixels` (CV_8UC1) to in->explained: tracked, not fused.
+    static void hold_out_of_fusion(const cv::Mat& pixels, Input* in);
     /// CV_8UC1, 255 on the pixels of in.instance_ids that belong to non-rigid instances.
     static cv::Mat non_rigid_mask(const Input& in);
     /// Why the frame's invalid mask is not to be trusted ("" when it is): it leaves out more

@@ -72,6 +72,34 @@ TEST(MoverEvidence, AMoverIsProvenAfterEnoughFramesAndIsStillAgainWhenItStops) {
     EXPECT_FALSE(e.moving);
 }
 
+TEST(MoverEvidence, ACandidateSettlesOnlyAfterEnoughStillFramesAndAMoverNever) {
+    ObjectMapsConfig c;
+    MoverEvidence still;
+    update_mover(&still, at(0), extent(), 1.5, c);  // anchors
+    int settled_at = -1;
+    for (int i = 1; i <= 100 && settled_at < 0; ++i) {
+        update_mover(&still, at(0.002 * (i % 2)), extent(), 1.5, c);
+        if (mover_settled(still, c)) settled_at = i;
+    }
+    EXPECT_EQ(settled_at, c.settle_after_frames);
+    // A frame beyond the bound unsettles it: settled again only after as many still frames.
+    update_mover(&still, at(0.2), extent(), 1.5, c);
+    EXPECT_FALSE(mover_settled(still, c));
+    EXPECT_FALSE(still.moving);
+    // A mover from its first frames never settles while it moves ...
+    MoverEvidence mover;
+    for (int i = 0; i < 60; ++i) {
+        update_mover(&mover, at(0.02 * i), extent(), 1.5, c);
+        ASSERT_FALSE(mover_settled(mover, c)) << "frame " << i;
+    }
+    EXPECT_TRUE(mover.moving);
+    // ... and is settled as soon as it is still again (it stood still_after_frames).
+    for (int i = 0; i < c.still_after_frames + 1 && mover.moving; ++i)
+        update_mover(&mover, at(2.0), extent(), 1.5, c);
+    EXPECT_FALSE(mover.moving);
+    EXPECT_TRUE(mover_settled(mover, c));
+}
+
 TEST(MoverEvidence, TheBoundGrowsWithDepthSquared) {
     ObjectMapsConfig c;
     EXPECT_NEAR(mover_bound_m(0.0, c), c.mover_min_displacement_m, 1e-9);
