@@ -12,6 +12,7 @@ import os
 import pwd
 import signal
 import time
+import xmlrpc.client
 
 ROUDI_LOCK = "/tmp/roudi.lock"
 USER = pwd.getpwuid(os.getuid()).pw_name
@@ -238,12 +239,18 @@ class Watcher:
             if i["statename"] not in RUNNING_STATES:
                 continue
             pids[n] = i["pid"]
-            if i["pid"] and stopped_by_signal(i["pid"]):
-                os.killpg(i["pid"], signal.SIGKILL)
+            # stopProcess first: supervisord then counts the exit as a stop. A SIGKILL before
+            # it is an unexpected exit that autorestart answers with a new process, which the
+            # heal's startProcess then finds ALREADY_STARTED (measured on a loaded CI machine).
             try:
                 self.rpc.supervisor.stopProcess(n, False)
             except Exception:  # already stopping or stopped
                 pass
+            if i["pid"] and stopped_by_signal(i["pid"]):  # SIGSTOPped: the stop signal waits
+                try:
+                    os.killpg(i["pid"], signal.SIGKILL)
+                except ProcessLookupError:
+                    pass
         deadline = time.monotonic() + grace_s
         while time.monotonic() < deadline and any(self.info(n)["statename"] in
                                                   RUNNING_STATES + ("STOPPING",) for n in pids):
@@ -261,6 +268,16 @@ class Watcher:
                                                   RUNNING_STATES + ("STOPPING",) for n in pids):
             time.sleep(0.05)
         return list(pids), killed
+
+    def start(self, name):
+        """startProcess that takes a program supervisord has already started again as done."""
+        try:
+            self.rpc.supervisor.startProcess(name, False)
+        except xmlrpc.client.Fault as e:
+            if "ALREADY_STARTED" not in e.faultString:
+                raise
+            self.log(f"heal {self.heals}: {name} was already started again (pid "
+                     f"{self.info(name)['pid']})")
 
     def heal(self, reason):
         t0 = time.monotonic()
@@ -291,7 +308,7 @@ class Watcher:
         self.log(f"heal {self.heals}: RouDi stopped"
                  + (" (SIGKILL)" if roudi_killed else "")
                  + f"; removed {', '.join(removed) or 'nothing'}")
-        self.rpc.supervisor.startProcess("roudi", False)
+        self.start("roudi")
         deadline = time.monotonic() + 10
         while not roudi_running():
             if time.monotonic() > deadline:
@@ -301,7 +318,7 @@ class Watcher:
             time.sleep(0.02)
         self.roudi_pid = self.info("roudi")["pid"]
         for n in restart:
-            self.rpc.supervisor.startProcess(n, False)
+            self.start(n)
         self.log(f"heal {self.heals}: RouDi pid {self.roudi_pid}; started "
                  f"{', '.join(restart) or 'no service'}; {time.monotonic() - t0:.2f} s")
         return True

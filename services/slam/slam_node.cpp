@@ -309,6 +309,15 @@ void SlamNode::handle(const io::RgbdImage& image, const df_msg_Header& header,
                   " total_ms=", report->times.total_ms);
     }
 
+    // The pose goes to trajectory.txt before anything is published: a capture records the frame
+    // done once SLAM answered it, so a SLAM killed between its answer and this write (a heal's
+    // SIGKILL of a SLAM blocked in a stuck RouDi) would lose the pose for good.
+    if (outputs_) {
+        outputs_->add(header.seq, *report);
+        if (system_->trajectory().size() > poses_before)
+            outputs_->append_pose(system_->trajectory().back());
+    }
+
     df_msg_CameraPose pose{};
     pose.header = header;
     pose.header.status = df_msg_FRAME_OK;
@@ -343,11 +352,6 @@ void SlamNode::handle(const io::RgbdImage& image, const df_msg_Header& header,
     if (Status s = status_.write_copy(answer); !s) log::warn("seq=", header.seq, " ", s.message());
     last_seq_ = header.seq;
     last_sensor_ns_ = static_cast<int64_t>(header.sensor_ns);
-    if (outputs_) {
-        outputs_->add(header.seq, *report);
-        if (system_->trajectory().size() > poses_before)
-            outputs_->append_pose(system_->trajectory().back());
-    }
     checkpoint(false);
 }
 
