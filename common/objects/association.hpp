@@ -57,6 +57,16 @@ Association associate(const dynamics::LabelImage& instances, const std::vector<O
                       const cv::Mat& depth_m, const AssociationConfig& config,
                       const cv::Mat& background_depth_m = cv::Mat());
 
+/// Motion segmentation's regions as candidate objects (objects.from_motion): each 8-connected
+/// region of `motion_mask` (CV_8UC1, the frame's size) whose pixels lie outside every instance
+/// of `instances` and outside every map's claim (`object_ids`, CV_16UC1, may be empty) becomes
+/// a rigid instance of no class (class_id -1, score 1, its bounding box) in `instances` and an
+/// unmatched one in `association`, when it has at least `min_pixels` such pixels and at least
+/// half its pixels are such (a region mostly on a map is that map's). Labels are created when
+/// `instances` has none. Returns how many regions were added.
+int add_motion_regions(const cv::Mat& motion_mask, const cv::Mat& object_ids, int min_pixels,
+                       dynamics::LabelImage* instances, Association* association);
+
 /// True when `measured` (metres, > 0) agrees with `rendered` (metres, 0 = nothing rendered)
 /// within tolerance_m + tolerance_per_m2 z^2.
 inline bool depth_agrees(float measured, float rendered, float tolerance_m,

@@ -286,6 +286,12 @@ cv::Mat SlamSystem::static_depth() const {
 Status SlamSystem::map_objects(Input* in, FrameReport* report) {
     if (!config_.objects.enabled || !config_.dynamics.use_segments) return Status::ok();
     auto t = std::chrono::steady_clock::now();
+    if (config_.objects.from_motion && report->motion.moving) {
+        // Unknown movers as objects: motion segmentation's regions may create maps of their own.
+        objects::add_motion_regions(report->motion.mask, in->objects.object_ids,
+                                    config_.objects.min_create_pixels, &in->segments.objects,
+                                    &in->objects.association);
+    }
     DF_RETURN_IF_ERROR(
         objects_.track(in->frame, in->segments.objects, world_T_camera_, map_time_, &in->objects));
     report->times.objects_track_ms = ms_since(t);

@@ -161,7 +161,9 @@ TEST_F(HostileSamples, ServicesAnswerFailedAndProcessTheNextGoodFrame) {
         return [&, seq](const Answers& a) {
             for (const auto& s : frame_stages)
                 if (!answered(a, s, seq)) return false;
-            return true;
+            // Fusion too: its readers can miss a first sample alike (seen in CI: fusion never
+            // answered seq 0 and 1), and a frame sent again brings their inputs again.
+            return answered(a, "fusion", seq);
         };
     };
     Answers a;

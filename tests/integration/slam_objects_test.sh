@@ -30,15 +30,18 @@ for m in msgs:
     for obj in m.split("- object_id:")[1:]:
         oid = int(obj.split()[0])
         cls = int(re.search(r"class_id:\s*(-?\d+)", obj).group(1))
-        assert cls in (2, 28), f"object {oid} of class {cls}: room4's rigid known movers are the car and the suitcase"
+        # class -1: an unknown mover's map made from motion segmentation (objects.from_motion;
+        # room4's drum has no COCO class)
+        assert cls in (2, 28, -1), f"object {oid} of class {cls}: room4's rigid known movers are the car and the suitcase"
         classes[oid] = cls
         if re.search(r"tracked:\s*true", obj):
             tracked[oid] = tracked.get(oid, 0) + 1
-assert sorted(classes[o] for o in tracked) == [2, 28], f"one car and one suitcase map expected, tracked: {tracked} of classes {classes}"
-for oid, frames in tracked.items():
+known = {o: f for o, f in tracked.items() if classes[o] != -1}
+assert sorted(classes[o] for o in known) == [2, 28], f"one car and one suitcase map expected, tracked: {tracked} of classes {classes}"
+for oid, frames in known.items():
     assert frames >= n // 2, f"object {oid} (class {classes[oid]}) was tracked in {frames} of {n} frames"
 table = json.load(open(sys.argv[2]))["objects"]
-for oid, name in ((o, {2: "car", 28: "suitcase"}[classes[o]]) for o in tracked):
+for oid, name in ((o, {2: "car", 28: "suitcase"}[classes[o]]) for o in known):
     assert [o["id"] for o in table if o["class_name"] == name] == [oid], table
     row = next(o for o in table if o["id"] == oid)
     assert sum(1 for _ in open(sys.argv[2].replace("objects.json", row["trajectory"]))) >= tracked[oid]

@@ -107,13 +107,17 @@ rate() {  # rate LOG: the last average rate df_tap hz printed
 }
 $TAP hz "$NS/camera_pose" --duration 5 >"$TMP/hz_before.txt" 2>&1 || true
 # The tap must be up before the cut: a participant cannot start on an interface that is down.
-$TAP hz "$NS/camera_pose" --duration 6 >"$TMP/hz_cut.txt" 2>&1 &
+# It is up once it printed a rate (a fixed sleep was too short on a loaded machine: the tap's
+# participant then started on the downed interface and failed); it runs 5 s past the cut.
+$TAP hz "$NS/camera_pose" --duration 60 >"$TMP/hz_cut.txt" 2>&1 &
 hz_pid=$!; pids+=($hz_pid)
-sleep 1
+for _ in $(seq 600); do grep -q "average rate:" "$TMP/hz_cut.txt" && break; sleep 0.05; done
+grep -q "average rate:" "$TMP/hz_cut.txt" || fail "df_tap hz printed no rate within 30 s: $(tail -3 "$TMP/hz_cut.txt")"
 "$HOSTS" cut
 sleep 5
 restore_ns=$(date +%s%N)
 "$HOSTS" restore
+kill -TERM $hz_pid 2>/dev/null || true
 wait $hz_pid || true
 before=$(rate "$TMP/hz_before.txt"); during=$(rate "$TMP/hz_cut.txt")
 echo "camera_pose on host a: $before Hz before the cut, $during Hz during it"

@@ -180,6 +180,39 @@ TEST(Association, OneBoxOverTwoMapsIsSplitByTheirSilhouettes) {
     EXPECT_EQ(one.pixels_of_view[1], 0);
 }
 
+TEST(Association, MotionRegionsOutsideInstancesAndClaimsBecomeUnmatchedRigidInstancesOfNoClass) {
+    Scene s;
+    s.add(1, 56, dynamics::ObjectKind::kRigid, cv::Rect(0, 0, 10, 10));  // a chair
+    cv::Mat motion = cv::Mat::zeros(kH, kW, CV_8UC1);
+    motion(cv::Rect(30, 10, 20, 20)).setTo(255);  // a mover, 400 px, free
+    motion(cv::Rect(0, 0, 12, 12)).setTo(255);    // mostly the chair: 100 of 144 px
+    motion(cv::Rect(60, 40, 3, 3)).setTo(255);    // too small
+    cv::Mat claims = cv::Mat::zeros(kH, kW, CV_16UC1);
+    claims(cv::Rect(30, 10, 5, 20)).setTo(7);  // a map claims 100 px of the mover's region
+    Association a;
+    const int added = add_motion_regions(motion, claims, 50, &s.instances, &a);
+    ASSERT_EQ(added, 1);
+    ASSERT_EQ(s.instances.instances.size(), 2u);
+    const dynamics::InstanceInfo& row = s.instances.instances.back();
+    EXPECT_EQ(row.id, 2);
+    EXPECT_EQ(row.class_id, -1);
+    EXPECT_EQ(row.kind, dynamics::ObjectKind::kRigid);
+    EXPECT_EQ(row.pixels, 300);  // the region less the map's claim
+    EXPECT_EQ(count(s.instances.labels, 2), 300);
+    EXPECT_EQ(count(s.instances.labels, 1), 100);  // the chair keeps its pixels
+    EXPECT_FLOAT_EQ(row.box.x, 35.f);
+    EXPECT_FLOAT_EQ(row.box.width, 15.f);
+    ASSERT_EQ(a.unmatched_rigid.size(), 1u);
+    EXPECT_EQ(a.unmatched_rigid[0], 2);
+    EXPECT_EQ(a.unmatched_claimed[0], 0);
+    // Labels are made when the frame has none; no motion adds nothing.
+    dynamics::LabelImage none;
+    Association b;
+    EXPECT_EQ(add_motion_regions(motion, cv::Mat(), 50, &none, &b), 2);
+    EXPECT_EQ(none.labels.size(), motion.size());
+    EXPECT_EQ(add_motion_regions(cv::Mat::zeros(kH, kW, CV_8UC1), cv::Mat(), 50, &none, &b), 0);
+}
+
 TEST(Association, BoxIou) {
     EXPECT_FLOAT_EQ(box_iou({0, 0, 10, 10}, {0, 0, 10, 10}), 1.f);
     EXPECT_FLOAT_EQ(box_iou({0, 0, 10, 10}, {5, 0, 10, 10}), 50.f / 150.f);

@@ -487,7 +487,7 @@ FurnitureRun run_furniture(int frames, int detect_from, const SystemConfig& conf
 }
 
 TEST(ObjectMaps, FurnitureTheStaticMapHoldsIsTrackedButNotFusedNorMapped) {
-    const SystemConfig config;  // the default: static_explained_fraction 0.5
+    const SystemConfig config;  // the defaults (keep_until_moving; static_explained_fraction 0.5 for the rule below)
     ASSERT_LT(config.objects.static_explained_fraction, 1.f);
     const FurnitureRun r = run_furniture(20, 8, config);
     ASSERT_EQ(r.out_of_tracking.size(), 11u);
@@ -501,9 +501,10 @@ TEST(ObjectMaps, FurnitureTheStaticMapHoldsIsTrackedButNotFusedNorMapped) {
     EXPECT_LT(ate->translation_m.rmse, 0.01);
     EXPECT_EQ(r.system->lost_frames(), 0u);
 
-    // The rule off: the chair is left out of tracking as well.
+    // The rule off (and objects not kept until moving): the chair is left out of tracking too.
     SystemConfig rule_off;
     rule_off.objects.static_explained_fraction = 1.f;
+    rule_off.objects.keep_until_moving = false;
     const FurnitureRun off = run_furniture(20, 8, rule_off);
     ASSERT_EQ(off.out_of_tracking.size(), 11u);
     EXPECT_GT(off.out_of_tracking.back(), 0.9f);
