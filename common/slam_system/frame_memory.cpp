@@ -31,6 +31,8 @@ void SlamSystem::carry_instances(Input* in, FrameReport* report) const {
                                                        size, d.invalid)
                            : cv::Mat::zeros(size, CV_16UC1);
     in->instances = in->instance_ids != 0;
+    in->detected_rigid = dynamics::mask_of({in->instance_ids, in->segments.objects.instances},
+                                           {dynamics::ObjectKind::kRigid}, size);
 }
 
 void SlamSystem::recall_instances(Input* in) {
@@ -73,11 +75,14 @@ void SlamSystem::remember(const Input& in) {
             !in.image.depth.empty())
             far_depth = slam::depth_to_metres(in.image.depth, in.image.depth_units_per_m,
                                               config_.preprocess.min_depth_m, far);
-        history_.push_back(
-            {in.frame.levels[0].depth_m, far_depth,
-             dynamics::mask_of({in.instance_ids, in.segments.objects.instances},
-                               {dynamics::ObjectKind::kRigid}, in.instance_ids.size()),
-             world_T_camera_, in.image.sensor_ns, frames_});
+        // Rigid: what is left out as rigid now (object maps' claims included) and what the
+        // frame came with as rigid instances, kept in the static map or not
+        // (keep_until_moving): a candidate seen here was seen as an object, not through.
+        cv::Mat rigid = dynamics::mask_of({in.instance_ids, in.segments.objects.instances},
+                                          {dynamics::ObjectKind::kRigid}, in.instance_ids.size());
+        if (in.detected_rigid.size() == rigid.size()) rigid |= in.detected_rigid;
+        history_.push_back({in.frame.levels[0].depth_m, far_depth, rigid, world_T_camera_,
+                            in.image.sensor_ns, frames_});
         while (history_.size() > static_cast<size_t>(frames)) history_.pop_front();
     }
     if (lost_ || !config_.dynamics.propagation.enabled) {

@@ -172,6 +172,10 @@ class SlamSystem {
         cv::Mat instance_ids;  ///< CV_16UC1, the instances left out (instance_labels)
         cv::Mat instances;     ///< CV_8UC1, instance_ids as a mask (255 = left out)
         cv::Mat rigid;         ///< CV_8UC1, the rigid instances this frame's segments hold
+        /// CV_8UC1, the rigid instances as the frame came (before object maps or
+        /// keep_until_moving kept any in the static map): what motion's history remembers as
+        /// seen here as an object.
+        cv::Mat detected_rigid;
         /// CV_8UC1 (or empty), pixels tracked against the static map but not fused into it:
         /// rigid instances the static map already explains (furniture) and, with
         /// objects.keep_until_moving, candidates not yet settled.

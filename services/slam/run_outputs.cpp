@@ -17,9 +17,9 @@ namespace df::slam_service {
 
 std::string class_name(int class_id) {
     const auto& names = detect::coco_names();
-    return class_id >= 0 && class_id < static_cast<int>(names.size())
-               ? names[static_cast<size_t>(class_id)]
-               : "class " + std::to_string(class_id);
+    if (class_id < 0) return "unknown";  // an unknown mover's map (objects.from_motion)
+    return class_id < static_cast<int>(names.size()) ? names[static_cast<size_t>(class_id)]
+                                                     : "class " + std::to_string(class_id);
 }
 
 StageFigures figures(const std::vector<double>& values_ms) {
