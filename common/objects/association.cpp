@@ -192,63 +192,57 @@ Association associate(const dynamics::LabelImage& instances, const std::vector<O
 int add_motion_regions(const cv::Mat& motion_mask, const cv::Mat& object_ids, int min_pixels,
                        dynamics::LabelImage* instances, Association* association) {
     if (motion_mask.empty() || motion_mask.type() != CV_8UC1) return 0;
-    if (instances->labels.empty()) {
-        instances->labels = cv::Mat::zeros(motion_mask.size(), CV_16UC1);
-    }
+    if (instances->labels.empty()) instances->labels = cv::Mat::zeros(motion_mask.size(), CV_16UC1);
     if (instances->labels.size() != motion_mask.size()) return 0;
     const bool have_claims = !object_ids.empty() && object_ids.size() == motion_mask.size();
     cv::Mat regions;
-    const int n = cv::connectedComponents(motion_mask, regions, 8, CV_32S);
+    const auto n = static_cast<size_t>(cv::connectedComponents(motion_mask, regions, 8, CV_32S));
     if (n <= 1) return 0;
-    std::vector<int> total(static_cast<size_t>(n), 0), free(static_cast<size_t>(n), 0);
+    // Per region: all its pixels, and those outside every instance and claim (with their box).
+    std::vector<int> total(n, 0), free(n, 0);
+    std::vector<cv::Rect> boxes(n);
+    const auto is_free = [&](int y, int x) {
+        return instances->labels.at<uint16_t>(y, x) == 0 &&
+               (!have_claims || object_ids.at<uint16_t>(y, x) == 0);
+    };
     for (int y = 0; y < regions.rows; ++y) {
         const int* r = regions.ptr<int>(y);
-        const uint16_t* l = instances->labels.ptr<uint16_t>(y);
-        const uint16_t* o = have_claims ? object_ids.ptr<uint16_t>(y) : nullptr;
         for (int x = 0; x < regions.cols; ++x) {
             if (r[x] == 0) continue;
-            ++total[static_cast<size_t>(r[x])];
-            if (l[x] == 0 && (o == nullptr || o[x] == 0)) ++free[static_cast<size_t>(r[x])];
+            const auto k = static_cast<size_t>(r[x]);
+            ++total[k];
+            if (!is_free(y, x)) continue;
+            ++free[k];
+            boxes[k] |= cv::Rect(x, y, 1, 1);
         }
     }
     int next = 1;
     for (const dynamics::InstanceInfo& row : instances->instances) next = std::max(next, row.id + 1);
-    std::vector<uint16_t> id_of(static_cast<size_t>(n), 0);
+    std::vector<uint16_t> id_of(n, 0);
     int added = 0;
-    for (int k = 1; k < n && next <= 65535; ++k) {
-        if (free[static_cast<size_t>(k)] < min_pixels || 2 * free[static_cast<size_t>(k)] < total[static_cast<size_t>(k)])
-            continue;
-        id_of[static_cast<size_t>(k)] = static_cast<uint16_t>(next++);
+    for (size_t k = 1; k < n && next <= 65535; ++k) {
+        if (free[k] < min_pixels || 2 * free[k] < total[k]) continue;
+        id_of[k] = static_cast<uint16_t>(next++);
         ++added;
-    }
-    if (added == 0) return 0;
-    std::vector<cv::Rect> boxes(static_cast<size_t>(n));
-    for (int y = 0; y < regions.rows; ++y) {
-        const int* r = regions.ptr<int>(y);
-        uint16_t* l = instances->labels.ptr<uint16_t>(y);
-        const uint16_t* o = have_claims ? object_ids.ptr<uint16_t>(y) : nullptr;
-        for (int x = 0; x < regions.cols; ++x) {
-            const uint16_t id = id_of[static_cast<size_t>(r[x])];
-            if (id == 0 || l[x] != 0 || (o != nullptr && o[x] != 0)) continue;
-            l[x] = id;
-            boxes[static_cast<size_t>(r[x])] |= cv::Rect(x, y, 1, 1);
-        }
-    }
-    for (int k = 1; k < n; ++k) {
-        const uint16_t id = id_of[static_cast<size_t>(k)];
-        if (id == 0) continue;
         dynamics::InstanceInfo row;
-        row.id = id;
+        row.id = id_of[k];
         row.class_id = -1;
         row.score = 1.f;
         row.kind = dynamics::ObjectKind::kRigid;
-        const cv::Rect& b = boxes[static_cast<size_t>(k)];
-        row.box = cv::Rect2f(static_cast<float>(b.x), static_cast<float>(b.y),
-                             static_cast<float>(b.width), static_cast<float>(b.height));
-        row.pixels = free[static_cast<size_t>(k)];
+        row.box = cv::Rect2f(boxes[k]);
+        row.pixels = free[k];
         instances->instances.push_back(row);
-        association->unmatched_rigid.push_back(id);
+        association->unmatched_rigid.push_back(row.id);
         association->unmatched_claimed.push_back(0);
+    }
+    if (added == 0) return 0;
+    for (int y = 0; y < regions.rows; ++y) {
+        const int* r = regions.ptr<int>(y);
+        uint16_t* l = instances->labels.ptr<uint16_t>(y);
+        for (int x = 0; x < regions.cols; ++x) {
+            const uint16_t id = id_of[static_cast<size_t>(r[x])];
+            if (id != 0 && is_free(y, x)) l[x] = id;
+        }
     }
     return added;
 }
